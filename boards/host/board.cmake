@@ -1,0 +1,8 @@
+# host: the development board. Builds on the machine it runs on, reads JSON
+# node configs, and builds the client, CLI, simulator and tests too.
+set(BOARD_DRIVERS
+  kinematic
+)
+set(BOARD_CONFIG_FORMAT json)
+set(BOARD_HOST_TOOLS ON)
+set(BOARD_NODE_CONFIGS ../../examples/nodes/kinematic.json)

@@ -1,0 +1,90 @@
+// The driver contract. A driver is a class in its own folder under drivers/;
+// the board lists which drivers are compiled in. See runtime/README.md.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "runtime/event_loop.h"
+#include "wire/message.h"
+
+namespace troupe {
+
+namespace config {
+struct DriverInstance;
+}
+
+class Node;
+
+/// A device of this node: an index into the node's registry, valid for the
+/// node's life.
+using DeviceId = uint32_t;
+inline constexpr DeviceId kNoDevice = 0xFFFFFFFFu;
+
+/// A request waiting for its reply. Pass it to exactly one of Node::ack() or
+/// Node::nack(), now or later; the node answers Timeout by itself when the
+/// deadline passes first, and then ignores the late reply.
+struct RequestToken {
+  uint32_t slot = 0xFFFFFFFFu;
+  uint32_t generation = 0;
+};
+
+/// What a driver instance is given at setup.
+struct DriverSetup {
+  /// The instance's entry in the node config; read options through
+  /// OptionsView (runtime/node_config.h).
+  const config::DriverInstance* instance = nullptr;
+  /// The instance name used in log lines.
+  std::string name;
+  /// Devices this instance provides (registered already), in config order.
+  std::span<const DeviceId> provides;
+  /// Devices this instance requires (provided by other instances), in config
+  /// order. The driver gets their data through on_data() once it subscribes.
+  std::span<const DeviceId> required;
+};
+
+class Driver : public FdHandler, public TimerHandler {
+ public:
+  virtual ~Driver() = default;
+
+  /// Reads options, opens hardware, registers descriptors and timers. On
+  /// failure returns false with `error` saying what and where (the node then
+  /// refuses to start: never half-configured).
+  virtual bool setup(Node& node, const DriverSetup& setup, std::string& error) = 0;
+
+  /// The newest command for one of this driver's devices. Commands that
+  /// arrived in the same loop iteration before it were replaced by it.
+  virtual void on_command(DeviceId /*device*/, const wire::Message& /*command*/) {}
+
+  /// A request for one of this driver's devices. Reply once through the
+  /// node with `token`. The default refuses it as unsupported.
+  virtual void on_request(DeviceId device, const wire::Message& request, RequestToken token);
+
+  /// Data published by a device this driver subscribed to (Node::subscribe).
+  virtual void on_data(DeviceId /*source*/, const wire::Message& /*data*/) {}
+
+  void on_fd(int /*fd*/, uint32_t /*events*/) override {}
+  void on_timer(TimerId /*id*/) override {}
+
+  /// Stop motors, close hardware. Called once, in reverse setup order.
+  virtual void shutdown() {}
+
+ protected:
+  Node* node_ = nullptr;
+  friend class Node;
+};
+
+/// One entry of the board's driver table (generated from boards/<board>/).
+struct DriverEntry {
+  const char* name;     // as in the node config's "driver_type"
+  Driver* (*create)();  // new instance, owned by the node
+};
+
+/// The drivers compiled into this board, ended by nullptr (generated from
+/// boards/<board>/board.cmake).
+extern const DriverEntry* const kBoardDrivers[];
+/// The board's name.
+extern const char* const kBoardName;
+
+}  // namespace troupe

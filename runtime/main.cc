@@ -1,0 +1,139 @@
+// troupe-node: serves the devices of one robot (or desktop) over the wire.
+//
+//   troupe-node CONFIG [--port N] [--listen ADDR] [--log-level LEVEL]
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "runtime/log.h"
+#include "runtime/node_config.h"
+
+namespace {
+
+const char kUsage[] =
+    "usage: troupe-node CONFIG [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
+    "\n"
+    "Serves the devices listed in the node config CONFIG (JSON, or the binary\n"
+    "flatc compiles from it) to clients over TCP. Options override the config.\n"
+    "\n"
+    "examples:\n"
+    "  troupe-node examples/nodes/kinematic.json\n"
+    "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0\n";
+
+// Stops the loop on SIGINT/SIGTERM, read through a signalfd so that the
+// handler runs in the loop like any other event.
+class SignalWatch final : public troupe::FdHandler {
+ public:
+  explicit SignalWatch(troupe::Node& node) : node_(node) {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigprocmask(SIG_BLOCK, &set, nullptr);
+    fd_ = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
+    if (fd_ >= 0) node_.loop().watch(fd_, 1 /*EPOLLIN*/, this);
+  }
+  ~SignalWatch() {
+    if (fd_ >= 0) close(fd_);
+  }
+  void on_fd(int fd, uint32_t) override {
+    signalfd_siginfo info{};
+    if (read(fd, &info, sizeof info) == sizeof info) {
+      troupe::log_info("%s: stopping", strsignal(int(info.ssi_signo)));
+      node_.stop();
+    }
+  }
+
+ private:
+  troupe::Node& node_;
+  int fd_ = -1;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  troupe::set_log_program("troupe-node");
+  signal(SIGPIPE, SIG_IGN);
+  const char* config_path = nullptr;
+  const char* port = nullptr;
+  const char* listen = nullptr;
+  const char* level = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    auto value = [&](const char* flag) -> const char* {
+      if (i + 1 >= argc) {
+        fprintf(stderr, "troupe-node: %s needs a value\n%s", flag, kUsage);
+        exit(2);
+      }
+      return argv[++i];
+    };
+    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+      fputs(kUsage, stdout);
+      return 0;
+    } else if (strcmp(argv[i], "--port") == 0) {
+      port = value("--port");
+    } else if (strcmp(argv[i], "--listen") == 0) {
+      listen = value("--listen");
+    } else if (strcmp(argv[i], "--log-level") == 0) {
+      level = value("--log-level");
+    } else if (argv[i][0] == '-' || config_path != nullptr) {
+      fprintf(stderr, "troupe-node: unexpected argument '%s'\n%s", argv[i], kUsage);
+      return 2;
+    } else {
+      config_path = argv[i];
+    }
+  }
+  if (config_path == nullptr) {
+    fputs(kUsage, stderr);
+    return 2;
+  }
+
+  std::string error;
+  troupe::LoadedConfig cfg;
+  if (!troupe::load_config(config_path, cfg, error)) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
+  troupe::set_log_level(troupe::LogLevel(int(cfg.root->log_level())));
+  troupe::LogLevel parsed{};
+  if (level != nullptr) {
+    if (!troupe::parse_log_level(level, parsed)) {
+      fprintf(stderr, "troupe-node: bad log level '%s'\n%s", level, kUsage);
+      return 2;
+    }
+    troupe::set_log_level(parsed);
+  }
+  troupe::Node::Options options = troupe::node_options(*cfg.root);
+  if (port != nullptr) {
+    char* end = nullptr;
+    long p = strtol(port, &end, 10);
+    if (*end != '\0' || p < 0 || p > 65535) {
+      fprintf(stderr, "troupe-node: bad port '%s'\n", port);
+      return 2;
+    }
+    options.port = uint16_t(p);
+  }
+  if (listen != nullptr) options.listen = listen;
+
+  troupe::Node node(options);
+  if (!troupe::build_node(node, cfg, error)) {
+    troupe::log_error("%s", error.c_str());
+    troupe::log_error("not starting: the config must be fixed first");
+    return 1;
+  }
+  if (!node.start(error)) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
+  SignalWatch signals(node);
+  troupe::log_info("%s (board %s) serving %zu devices on %s:%u", options.name.c_str(), troupe::kBoardName,
+                   node.device_count(), options.listen.c_str(), unsigned(node.port()));
+  node.run();
+  node.shutdown();
+  troupe::log_info("stopped");
+  return 0;
+}

@@ -1,0 +1,402 @@
+#include "runtime/node.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "runtime/clock.h"
+#include "runtime/log.h"
+#include "runtime/server.h"
+#include "wire/address.h"
+
+namespace troupe {
+
+using wire::Body;
+using wire::ErrorCode;
+using wire::Kind;
+
+void Driver::on_request(DeviceId /*device*/, const wire::Message& request, RequestToken token) {
+  char why[64];
+  snprintf(why, sizeof why, "request subtype %u is not supported", unsigned(request.header()->subtype()));
+  node_->nack(token, ErrorCode::Unsupported, why);
+}
+
+Node::Node(Options options)
+    : options_(std::move(options)),
+      loop_(options_.max_timers),
+      server_(std::make_unique<Server>(*this)),
+      pending_(options_.max_pending_requests) {}
+
+Node::~Node() { shutdown(); }
+
+uint64_t Node::now_us() const { return clock_ ? clock_(clock_ctx_) : monotonic_us(); }
+
+void Node::set_clock(uint64_t (*clock_us)(void*), void* ctx) {
+  clock_ = clock_us;
+  clock_ctx_ = ctx;
+}
+
+DeviceId Node::add_device(const wire::Address& addr, Driver* driver, std::string_view driver_name,
+                          std::string_view robot_name) {
+  uint64_t key = wire::address_key(addr);
+  if (by_address_.count(key) != 0) return kNoDevice;
+  DeviceId id = DeviceId(devices_.size());
+  Device& dev = devices_.emplace_back();
+  dev.addr = addr;
+  dev.driver = driver;
+  dev.driver_name = driver_name;
+  dev.robot_name = robot_name;
+  by_address_.emplace(key, id);
+  return id;
+}
+
+bool Node::add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error) {
+  driver->node_ = this;
+  if (!driver->setup(*this, setup, error)) return false;
+  drivers_.push_back(std::move(driver));
+  return true;
+}
+
+bool Node::start(std::string& error) {
+  if (!loop_.ok()) {
+    error = "cannot create the event loop";
+    return false;
+  }
+  pending_commands_.reserve(devices_.size());
+  return server_->start(error);
+}
+
+uint16_t Node::port() const { return server_->port(); }
+size_t Node::client_count() const { return server_->client_count(); }
+
+void Node::poll(int64_t max_wait_us) {
+  loop_.run_once(max_wait_us);
+  deliver_commands();
+}
+
+void Node::run() {
+  while (!loop_.stopped()) poll(-1);
+}
+
+void Node::shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  for (auto it = drivers_.rbegin(); it != drivers_.rend(); ++it) (*it)->shutdown();
+  server_->close_all();
+}
+
+DeviceId Node::find_device(const wire::Address& addr) const {
+  auto it = by_address_.find(wire::address_key(addr));
+  return it == by_address_.end() ? kNoDevice : it->second;
+}
+
+const wire::Address& Node::address(DeviceId device) const { return devices_[device].addr; }
+
+bool Node::has_readers(DeviceId device) const {
+  const Device& dev = devices_[device];
+  return !dev.readers.empty() || !dev.subscribers.empty();
+}
+
+void Node::subscribe(DeviceId source, Driver* driver) {
+  std::vector<Driver*>& subs = devices_[source].subscribers;
+  if (std::find(subs.begin(), subs.end(), driver) == subs.end()) subs.push_back(driver);
+}
+
+Node::Reader* Node::find_reader(Device& dev, uint32_t client) {
+  for (Reader& r : dev.readers) {
+    if (r.client == client) return &r;
+  }
+  return nullptr;
+}
+
+int Node::slot_for(Device& dev, uint8_t subtype) {
+  for (int i = 0; i < kDataSlots; ++i) {
+    if (dev.slots[i].subtype == subtype && !dev.slots[i].frame.empty()) return i;
+  }
+  for (int i = 0; i < kDataSlots; ++i) {
+    if (dev.slots[i].frame.empty()) {
+      dev.slots[i].subtype = subtype;
+      return i;
+    }
+  }
+  // More data subtypes than slots: the last slot is shared by the extras.
+  dev.slots[kDataSlots - 1].subtype = subtype;
+  return kDataSlots - 1;
+}
+
+void Node::publish(DeviceId device, uint8_t subtype, Body type, flatbuffers::Offset<void> body,
+                   uint64_t time_us) {
+  Device& dev = devices_[device];
+  auto frame = writer_.finish(
+      wire::make_header(dev.addr, Kind::Data, subtype, ++dev.seq, time_us ? time_us : now_us()), type, body);
+  int slot = slot_for(dev, subtype);
+  // assign() reuses the slot's capacity: no allocation once it has held a
+  // sample of this size.
+  dev.slots[slot].frame.assign(frame.begin(), frame.end());
+  const std::vector<uint8_t>& stored = dev.slots[slot].frame;
+  for (const Reader& r : dev.readers) {
+    if (r.delivery == uint8_t(wire::Delivery::Push)) server_->push_data(r.client, device, slot, stored);
+  }
+  if (!dev.subscribers.empty()) {
+    const wire::Message* msg = wire::trusted_message(stored);
+    for (Driver* d : dev.subscribers) d->on_data(device, *msg);
+  }
+}
+
+void Node::send_hello(uint32_t client) {
+  auto& b = reply_writer_.start();
+  auto body = wire::CreateHello(b, wire::kProtocolVersion, b.CreateString(options_.name),
+                                options_.limits.max_frame_bytes, 0, now_us());
+  server_->send_reliable(client, reply_writer_.finish(wire::make_header({}, Kind::Hello, 0, 0, now_us()),
+                                                      Body::Hello, body.Union()));
+}
+
+void Node::reply_status(uint32_t client, const wire::Header& to, Kind kind, ErrorCode code,
+                        std::string_view text) {
+  auto& b = reply_writer_.start();
+  flatbuffers::Offset<void> body = 0;
+  Body type = Body::NONE;
+  if (kind != Kind::Ack) {
+    body = wire::CreateError(b, code, b.CreateString(text.data(), text.size())).Union();
+    type = Body::Error;
+  }
+  server_->send_reliable(
+      client, reply_writer_.finish(wire::make_header(to.addr(), kind, to.subtype(), to.seq(), now_us()), type, body));
+}
+
+void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint8_t> frame) {
+  const wire::Header& h = *msg.header();
+  const Kind kind = h.kind();
+  const Body body = msg.body_type();
+
+  if (kind == Kind::Invalid || uint8_t(kind) > uint8_t(Kind::MAX)) {
+    char text[48];
+    snprintf(text, sizeof text, "unknown message kind %u", unsigned(kind));
+    return reply_status(client, h, Kind::Nack, ErrorCode::Unsupported, text);
+  }
+  if (!wire::is_known_body(body)) {
+    // A newer peer's body: refuse politely, keep the connection.
+    char text[48];
+    snprintf(text, sizeof text, "unknown body type %u", unsigned(body));
+    if (kind == Kind::Request || kind == Kind::Command) {
+      return reply_status(client, h, Kind::Nack, ErrorCode::Unsupported, text);
+    }
+    log_debug("client %u: ignoring %s", client, text);
+    return;
+  }
+  if (!wire::body_fits(kind, h.addr().iface(), body)) {
+    char text[128];
+    snprintf(text, sizeof text, "a %s message for %s cannot carry body %s",
+             std::string(wire::kind_name(kind)).c_str(),
+             std::string(wire::interface_name(h.addr().iface())).c_str(), wire::EnumNameBody(body));
+    log_warn("client %u: %s", client, text);
+    return server_->close_with_error(client, ErrorCode::BadBody, text);
+  }
+
+  switch (kind) {
+    case Kind::DeviceList: return send_device_list(client, msg);
+    case Kind::TimeSync: return send_time_sync(client, msg);
+    case Kind::Hello: return;  // the server handles Hello
+    case Kind::Data:
+    case Kind::Ack:
+    case Kind::Nack:
+    case Kind::Error: {
+      char text[64];
+      snprintf(text, sizeof text, "clients do not send %s messages",
+               std::string(wire::kind_name(kind)).c_str());
+      return server_->close_with_error(client, ErrorCode::BadBody, text);
+    }
+    default: break;
+  }
+
+  DeviceId dev = find_device(h.addr());
+  if (dev == kNoDevice) {
+    std::string text = "no such device " + wire::format_address(h.addr());
+    return reply_status(client, h, Kind::Nack, ErrorCode::NoSuchDevice, text);
+  }
+  switch (kind) {
+    case Kind::Open: return handle_open(client, dev, msg);
+    case Kind::Close: return handle_close(client, dev, msg);
+    case Kind::Pull: return handle_pull(client, dev, msg);
+    case Kind::Command: return handle_command(client, dev, msg, frame);
+    case Kind::Request: return handle_request(client, dev, msg);
+    default: return;
+  }
+}
+
+void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
+  Device& dev = devices_[id];
+  const wire::Open* open = msg.body_as_Open();
+  auto access = open ? open->access() : wire::Access::All;
+  auto delivery = open ? open->delivery() : wire::Delivery::Push;
+  Reader* r = find_reader(dev, client);
+  if (r == nullptr) {
+    dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});
+    r = &dev.readers.back();
+    server_->clients_[client].opened.push_back(id);
+  } else {
+    r->delivery = uint8_t(delivery);
+    r->access = uint8_t(access);
+  }
+  reply_status(client, *msg.header(), Kind::Ack);
+  // A new reader gets the current state at once rather than at the next
+  // sample, which may be long in coming for slow devices.
+  if ((uint8_t(access) & uint8_t(wire::Access::Read)) && delivery == wire::Delivery::Push) {
+    for (int slot = 0; slot < kDataSlots; ++slot) {
+      if (!dev.slots[slot].frame.empty()) server_->push_data(client, id, slot, dev.slots[slot].frame);
+    }
+  }
+}
+
+void Node::handle_close(uint32_t client, DeviceId id, const wire::Message& msg) {
+  Device& dev = devices_[id];
+  std::erase_if(dev.readers, [client](const Reader& r) { return r.client == client; });
+  std::erase(server_->clients_[client].opened, id);
+  reply_status(client, *msg.header(), Kind::Ack);
+}
+
+void Node::handle_pull(uint32_t client, DeviceId id, const wire::Message& msg) {
+  Device& dev = devices_[id];
+  for (int slot = 0; slot < kDataSlots; ++slot) {
+    if (!dev.slots[slot].frame.empty() && !server_->send_reliable(client, dev.slots[slot].frame)) return;
+  }
+  // The Ack marks the end of the batch for the client.
+  reply_status(client, *msg.header(), Kind::Ack);
+}
+
+void Node::handle_command(uint32_t client, DeviceId id, const wire::Message& msg,
+                          std::span<const uint8_t> frame) {
+  Device& dev = devices_[id];
+  if (const Reader* r = find_reader(dev, client); r && !(r->access & uint8_t(wire::Access::Write))) {
+    return reply_status(client, *msg.header(), Kind::Nack, ErrorCode::Denied,
+                        "device opened read-only by this client");
+  }
+  // Newest wins: overwrite whatever command is still waiting.
+  dev.command.assign(frame.begin(), frame.end());
+  if (!dev.command_pending) {
+    dev.command_pending = true;
+    pending_commands_.push_back(id);
+  }
+}
+
+void Node::deliver_commands() {
+  // Index loop: a driver's on_command may not add commands, but stay safe.
+  for (size_t i = 0; i < pending_commands_.size(); ++i) {
+    Device& dev = devices_[pending_commands_[i]];
+    dev.command_pending = false;
+    if (dev.driver) dev.driver->on_command(pending_commands_[i], *wire::trusted_message(dev.command));
+  }
+  pending_commands_.clear();
+}
+
+void Node::handle_request(uint32_t client, DeviceId id, const wire::Message& msg) {
+  const wire::Header& h = *msg.header();
+  Device& dev = devices_[id];
+  if (const Reader* r = find_reader(dev, client); r && !(r->access & uint8_t(wire::Access::Write))) {
+    return reply_status(client, h, Kind::Nack, ErrorCode::Denied, "device opened read-only by this client");
+  }
+  uint32_t slot = 0;
+  while (slot < pending_.size() && pending_[slot].active) ++slot;
+  if (slot == pending_.size() || dev.driver == nullptr) {
+    return reply_status(client, h, Kind::Nack, ErrorCode::DeviceFailed,
+                        dev.driver ? "too many requests pending" : "device has no driver");
+  }
+  Pending& p = pending_[slot];
+  p.active = true;
+  p.client = client;
+  p.client_generation = server_->generation(client);
+  p.device = id;
+  p.subtype = h.subtype();
+  p.seq = h.seq();
+  p.deadline_us = now_us() + uint64_t(options_.request_timeout_ms) * 1000u;
+  arm_request_timer();
+  dev.driver->on_request(id, msg, RequestToken{slot, p.generation});
+}
+
+DeviceId Node::request_device(RequestToken token) const {
+  if (token.slot >= pending_.size()) return kNoDevice;
+  const Pending& p = pending_[token.slot];
+  return p.active && p.generation == token.generation ? p.device : kNoDevice;
+}
+
+void Node::ack(RequestToken token, Body type, flatbuffers::Offset<void> body) {
+  if (request_device(token) == kNoDevice) return;  // already answered (timeout)
+  Pending& p = pending_[token.slot];
+  p.active = false;
+  ++p.generation;
+  if (!server_->alive(p.client, p.client_generation)) return;
+  auto frame =
+      writer_.finish(wire::make_header(devices_[p.device].addr, Kind::Ack, p.subtype, p.seq, now_us()), type, body);
+  server_->send_reliable(p.client, frame);
+}
+
+void Node::nack(RequestToken token, ErrorCode code, std::string_view why) {
+  if (request_device(token) == kNoDevice) return;
+  Pending& p = pending_[token.slot];
+  p.active = false;
+  ++p.generation;
+  if (!server_->alive(p.client, p.client_generation)) return;
+  wire::Header to = wire::make_header(devices_[p.device].addr, Kind::Nack, p.subtype, p.seq, 0);
+  reply_status(p.client, to, Kind::Nack, code, why);
+}
+
+void Node::arm_request_timer() {
+  uint64_t earliest = UINT64_MAX;
+  for (const Pending& p : pending_) {
+    if (p.active) earliest = std::min(earliest, p.deadline_us);
+  }
+  if (earliest == UINT64_MAX || (request_timer_ != 0 && request_timer_deadline_ <= earliest)) return;
+  if (request_timer_ != 0) loop_.cancel_timer(request_timer_);
+  uint64_t now = now_us();
+  request_timer_ = loop_.start_timer(earliest > now ? earliest - now : 0, 0, this);
+  request_timer_deadline_ = earliest;
+}
+
+void Node::on_timer(TimerId id) {
+  if (id != request_timer_) return;
+  request_timer_ = 0;
+  uint64_t now = now_us();
+  for (uint32_t slot = 0; slot < pending_.size(); ++slot) {
+    Pending& p = pending_[slot];
+    if (p.active && p.deadline_us <= now) {
+      char text[64];
+      snprintf(text, sizeof text, "no reply from the driver within %u ms", options_.request_timeout_ms);
+      log_warn("%s: %s", wire::format_address(devices_[p.device].addr).c_str(), text);
+      nack(RequestToken{slot, p.generation}, ErrorCode::Timeout, text);
+    }
+  }
+  arm_request_timer();
+}
+
+void Node::send_device_list(uint32_t client, const wire::Message& msg) {
+  auto& b = reply_writer_.start();
+  std::vector<flatbuffers::Offset<wire::DeviceInfo>> infos;
+  infos.reserve(devices_.size());
+  for (const Device& dev : devices_) {
+    infos.push_back(wire::CreateDeviceInfo(b, &dev.addr, b.CreateString(dev.robot_name),
+                                           b.CreateString(dev.driver_name)));
+  }
+  auto body = wire::CreateDeviceList(b, b.CreateVector(infos));
+  const wire::Header& h = *msg.header();
+  server_->send_reliable(
+      client, reply_writer_.finish(wire::make_header(h.addr(), Kind::DeviceList, 0, h.seq(), now_us()),
+                                   Body::DeviceList, body.Union()));
+}
+
+void Node::send_time_sync(uint32_t client, const wire::Message& msg) {
+  uint64_t received = now_us();
+  auto& b = reply_writer_.start();
+  const wire::TimeSync* ask = msg.body_as_TimeSync();
+  auto body = wire::CreateTimeSync(b, ask->client_send_us(), received, now_us());
+  const wire::Header& h = *msg.header();
+  server_->send_reliable(client, reply_writer_.finish(wire::make_header(h.addr(), Kind::TimeSync, 0, h.seq(), now_us()),
+                                                      Body::TimeSync, body.Union()));
+}
+
+void Node::forget_client(uint32_t client) {
+  for (DeviceId id : server_->clients_[client].opened) {
+    std::erase_if(devices_[id].readers, [client](const Reader& r) { return r.client == client; });
+  }
+  server_->clients_[client].opened.clear();
+}
+
+}  // namespace troupe

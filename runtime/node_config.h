@@ -1,0 +1,62 @@
+// Node configs: loading one (JSON or binary) and building a node from it,
+// all or nothing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "runtime/config_generated.h"
+#include "runtime/node.h"
+
+namespace troupe {
+
+/// A driver's typed options (its table in drivers/<d>/<d>.fbs), or the
+/// schema's defaults when the config gave no "driver" object.
+template <typename Options>
+class OptionsView {
+ public:
+  explicit OptionsView(const DriverSetup& setup)
+      : options_(setup.instance ? setup.instance->driver_as<Options>() : nullptr) {
+    if (options_ == nullptr) {
+      // An empty table reads back every field's default.
+      empty_.Finish(flatbuffers::Offset<Options>(empty_.EndTable(empty_.StartTable())));
+      options_ = flatbuffers::GetRoot<Options>(empty_.GetBufferPointer());
+    }
+  }
+  const Options* operator->() const { return options_; }
+
+ private:
+  flatbuffers::FlatBufferBuilder empty_{64};
+  const Options* options_;
+};
+
+/// A config read from a file. `root` points into `bytes`.
+struct LoadedConfig {
+  std::string path;
+  std::vector<uint8_t> bytes;
+  const config::NodeConfig* root = nullptr;
+};
+
+/// Reads the config at `path`: binary (as flatc -b makes it) on every board,
+/// JSON where the board carries the parser. On failure `error` names the file
+/// and the offending key or line.
+bool load_config(const std::string& path, LoadedConfig& out, std::string& error);
+
+/// Parses JSON text against the node config schema; false with `error`
+/// ("path:line:col: what") when the board has no parser or the text is bad.
+bool parse_config_json(const std::string& text, const std::string& path, std::vector<uint8_t>& binary,
+                       std::string& error);
+
+/// Node::Options as the config sets them.
+Node::Options node_options(const config::NodeConfig& cfg);
+
+/// Registers every instance's devices, then creates and sets up each driver
+/// in order. On the first failure returns false, `error` naming the file, the
+/// instance and the problem; the caller must not start the node.
+bool build_node(Node& node, const LoadedConfig& cfg, std::string& error);
+
+/// Names of the drivers compiled into this board, comma-separated.
+std::string board_driver_names();
+
+}  // namespace troupe

@@ -1,0 +1,434 @@
+#include "runtime/server.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/epoll.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "runtime/log.h"
+#include "runtime/node.h"
+
+namespace troupe {
+namespace {
+
+// How long a connection closed for an error may take to read that error
+// before it is cut, us.
+constexpr uint64_t kLingerUs = 2'000'000;
+// Reads per readiness event: a busy client cannot starve the others.
+constexpr int kReadsPerEvent = 8;
+constexpr size_t kReadChunk = 16 * 1024;
+// Largest UDP payload; bigger data goes over TCP.
+constexpr size_t kMaxDatagram = 65507;
+
+bool set_nonblocking(int fd) {
+  int flags = fcntl(fd, F_GETFL, 0);
+  return flags >= 0 && fcntl(fd, F_SETFL, flags | O_NONBLOCK) == 0;
+}
+
+}  // namespace
+
+Server::Server(Node& node) : node_(node), clients_(node.options().max_clients) {}
+
+Server::~Server() {
+  close_all();
+  if (listen_fd_ >= 0) close(listen_fd_);
+  if (udp_fd_ >= 0) close(udp_fd_);
+}
+
+bool Server::start(std::string& error) {
+  const Node::Options& opt = node_.options();
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
+  addrinfo* found = nullptr;
+  char port_text[8];
+  snprintf(port_text, sizeof port_text, "%u", unsigned(opt.port));
+  int rc = getaddrinfo(opt.listen.empty() ? nullptr : opt.listen.c_str(), port_text, &hints, &found);
+  if (rc != 0) {
+    error = "cannot resolve listen address '" + opt.listen + "': " + gai_strerror(rc);
+    return false;
+  }
+  int last_errno = 0;
+  for (addrinfo* ai = found; ai != nullptr && listen_fd_ < 0; ai = ai->ai_next) {
+    int fd = socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC, ai->ai_protocol);
+    if (fd < 0) continue;
+    int one = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    if (bind(fd, ai->ai_addr, ai->ai_addrlen) == 0 && listen(fd, 64) == 0 && set_nonblocking(fd)) {
+      listen_fd_ = fd;
+      sockaddr_storage bound{};
+      socklen_t len = sizeof bound;
+      getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
+      port_ = ntohs(bound.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port
+                                                : reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+      if (opt.udp) {
+        // Data datagrams leave from the same address and port number.
+        int ufd = socket(ai->ai_family, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+        if (ufd >= 0 && bind(ufd, reinterpret_cast<sockaddr*>(&bound), len) == 0) {
+          udp_fd_ = ufd;
+        } else {
+          if (ufd >= 0) close(ufd);
+          log_warn("UDP data disabled: cannot bind UDP port %u: %s", unsigned(port_), strerror(errno));
+        }
+      }
+    } else {
+      last_errno = errno;
+      close(fd);
+    }
+  }
+  freeaddrinfo(found);
+  if (listen_fd_ < 0) {
+    error = "cannot listen on " + opt.listen + ":" + port_text + ": " + strerror(last_errno);
+    return false;
+  }
+  node_.loop().watch(listen_fd_, EPOLLIN, this);
+  return true;
+}
+
+size_t Server::client_count() const {
+  size_t n = 0;
+  for (const Client& c : clients_) n += c.state == State::Open;
+  return n;
+}
+
+bool Server::alive(uint32_t client, uint32_t generation) const {
+  return client < clients_.size() && clients_[client].state == State::Open &&
+         clients_[client].generation == generation;
+}
+
+uint32_t Server::index_of_fd(int fd) const {
+  if (fd < 0 || size_t(fd) >= client_of_fd_.size()) return UINT32_MAX;
+  return client_of_fd_[size_t(fd)] - 1;
+}
+
+void Server::on_fd(int fd, uint32_t events) {
+  if (fd == listen_fd_) {
+    accept_clients();
+    return;
+  }
+  uint32_t index = index_of_fd(fd);
+  if (index >= clients_.size()) return;
+  Client& c = clients_[index];
+  if (c.state == State::Draining) {
+    // Discard what the peer still sends until it closes: closing with unread
+    // input would reset the connection and could destroy our Error frame.
+    uint8_t scratch[4096];
+    for (;;) {
+      ssize_t n = recv(fd, scratch, sizeof scratch, MSG_DONTWAIT);
+      if (n > 0) continue;
+      if (n < 0 && errno == EINTR) continue;
+      if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK)) close_client(index);
+      break;
+    }
+    if (c.state == State::Draining && (events & EPOLLOUT)) flush(index);
+    return;
+  }
+  if (events & EPOLLOUT) flush(index);
+  if (c.state == State::Open && (events & (EPOLLIN | EPOLLHUP | EPOLLERR))) read_client(index);
+}
+
+void Server::accept_clients() {
+  for (;;) {
+    sockaddr_storage peer{};
+    socklen_t len = sizeof peer;
+    int fd = accept4(listen_fd_, reinterpret_cast<sockaddr*>(&peer), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) {
+      if (errno == EINTR) continue;
+      if (errno != EAGAIN && errno != EWOULDBLOCK) log_warn("accept: %s", strerror(errno));
+      return;
+    }
+    int one = 1;
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    uint32_t index = 0;
+    while (index < clients_.size() && clients_[index].state != State::Free) ++index;
+    if (index == clients_.size()) {
+      // Say why before closing; the socket is fresh, so this small write fits.
+      wire::MessageWriter w(256);
+      auto& b = w.start();
+      char text[64];
+      snprintf(text, sizeof text, "too many clients (limit %zu)", clients_.size());
+      auto body = wire::CreateError(b, wire::ErrorCode::Denied, b.CreateString(text));
+      auto frame = w.finish(wire::make_header({}, wire::Kind::Error, 0, 0, node_.now_us()),
+                            wire::Body::Error, body.Union());
+      (void)!send(fd, frame.data(), frame.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      log_warn("refused a client: %s", text);
+      close(fd);
+      continue;
+    }
+    Client& c = clients_[index];
+    c.fd = fd;
+    c.state = State::Open;
+    c.reader = wire::FrameReader(node_.options().limits.max_frame_bytes);
+    c.peer = peer;
+    c.peer_len = len;
+    c.udp_port = 0;
+    if (size_t(fd) >= client_of_fd_.size()) client_of_fd_.resize(size_t(fd) + 1, 0);
+    client_of_fd_[size_t(fd)] = index + 1;
+    node_.loop().watch(fd, EPOLLIN, this);
+    c.writing = false;
+    log_debug("client %u connected (fd %d)", index, fd);
+    node_.send_hello(index);
+  }
+}
+
+void Server::read_client(uint32_t index) {
+  Client& c = clients_[index];
+  const wire::Limits& limits = node_.options().limits;
+  for (int i = 0; i < kReadsPerEvent && c.state == State::Open; ++i) {
+    std::span<uint8_t> space = c.reader.write_space(kReadChunk);
+    ssize_t n = recv(c.fd, space.data(), space.size(), MSG_DONTWAIT);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      if (errno != EAGAIN && errno != EWOULDBLOCK) {
+        log_debug("client %u: recv: %s", index, strerror(errno));
+        close_client(index);
+      }
+      return;
+    }
+    if (n == 0) {
+      if (c.reader.pending_bytes() > 0) {
+        char text[96];
+        snprintf(text, sizeof text, "truncated frame: the stream ended after %zu bytes of a frame",
+                 c.reader.pending_bytes());
+        log_warn("client %u: %s", index, text);
+        close_with_error(index, wire::ErrorCode::BadFrame, text);
+      } else {
+        log_debug("client %u disconnected", index);
+        close_client(index);
+      }
+      return;
+    }
+    c.reader.commit(size_t(n));
+    for (;;) {
+      std::span<const uint8_t> frame = c.reader.next();
+      if (frame.empty()) {
+        if (c.reader.too_large()) {
+          char text[96];
+          snprintf(text, sizeof text, "frame of %u bytes exceeds the limit of %u bytes",
+                   c.reader.announced_bytes(), limits.max_frame_bytes);
+          log_warn("client %u: %s", index, text);
+          close_with_error(index, wire::ErrorCode::BadFrame, text);
+          return;
+        }
+        break;
+      }
+      wire::VerifyError why{};
+      const wire::Message* msg = wire::verify_frame(frame, limits, &why);
+      if (msg == nullptr) {
+        std::string_view reason = wire::verify_error_text(why);
+        log_warn("client %u: bad frame of %zu bytes: %.*s", index, frame.size(), int(reason.size()),
+                 reason.data());
+        close_with_error(index, wire::ErrorCode::VerifyFailed, reason);
+        return;
+      }
+      if (msg->header()->kind() == wire::Kind::Hello && msg->body_type() == wire::Body::Hello) {
+        handle_hello(index, *msg);
+      } else {
+        node_.route(index, *msg, frame);
+      }
+      if (c.state != State::Open) return;
+    }
+  }
+}
+
+void Server::handle_hello(uint32_t index, const wire::Message& msg) {
+  const wire::Hello* hello = msg.body_as_Hello();
+  if (hello->protocol_version() != wire::kProtocolVersion) {
+    char text[96];
+    snprintf(text, sizeof text, "client speaks protocol %u, this node speaks %u",
+             unsigned(hello->protocol_version()), unsigned(wire::kProtocolVersion));
+    close_with_error(index, wire::ErrorCode::VersionMismatch, text);
+    return;
+  }
+  Client& c = clients_[index];
+  if (hello->udp_port() != 0 && udp_fd_ < 0) {
+    log_warn("client %u asked for UDP data, but UDP is disabled; data stays on TCP", index);
+  } else {
+    c.udp_port = hello->udp_port();
+  }
+  log_debug("client %u is '%s'%s", index, hello->name() ? hello->name()->c_str() : "",
+            c.udp_port ? " (data over UDP)" : "");
+}
+
+long Server::write_some(Client& c, std::span<const uint8_t> bytes) {
+  size_t done = 0;
+  while (done < bytes.size()) {
+    ssize_t n = send(c.fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n > 0) {
+      done += size_t(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
+    return -1;
+  }
+  return long(done);
+}
+
+void Server::want_write(uint32_t index, bool on) {
+  Client& c = clients_[index];
+  if (c.writing == on) return;
+  c.writing = on;
+  node_.loop().modify(c.fd, EPOLLIN | (on ? EPOLLOUT : 0u));
+}
+
+void Server::flush(uint32_t index) {
+  Client& c = clients_[index];
+  if (c.state == State::Free) return;
+  auto failed = [&] {
+    log_debug("client %u: send failed: %s", index, strerror(errno));
+    close_client(index);
+  };
+  // 1. The rest of a data frame the socket took part of.
+  if (c.partial_head < c.partial.size()) {
+    long n = write_some(c, {c.partial.data() + c.partial_head, c.partial.size() - c.partial_head});
+    if (n < 0) return failed();
+    c.partial_head += size_t(n);
+    if (c.partial_head < c.partial.size()) return want_write(index, true);
+  }
+  // 2. Reliable frames, in order.
+  if (c.out_head < c.out.size()) {
+    long n = write_some(c, {c.out.data() + c.out_head, c.out.size() - c.out_head});
+    if (n < 0) return failed();
+    c.out_head += size_t(n);
+    if (c.out_head < c.out.size()) return want_write(index, true);
+  }
+  c.out.clear();
+  c.out_head = 0;
+  if (c.state == State::Draining) {
+    shutdown(c.fd, SHUT_WR);
+    return want_write(index, false);
+  }
+  // 3. The newest data of every device marked dirty for this client.
+  while (c.dirty_head < c.dirty.size()) {
+    DeviceId dev = c.dirty[c.dirty_head];
+    Node::Reader* reader = node_.find_reader(node_.devices_[dev], index);
+    uint8_t bits = reader ? reader->dirty : 0;
+    for (int slot = 0; slot < Node::kDataSlots && bits != 0; ++slot) {
+      if (!(bits & (1u << slot))) continue;
+      bits &= uint8_t(~(1u << slot));
+      reader->dirty = bits;
+      const std::vector<uint8_t>& frame = node_.devices_[dev].slots[slot].frame;
+      long n = write_some(c, frame);
+      if (n < 0) return failed();
+      if (size_t(n) < frame.size()) {
+        // Keep the tail: a frame once started must be finished.
+        c.partial.assign(frame.begin() + n, frame.end());
+        c.partial_head = 0;
+        if (bits == 0) ++c.dirty_head;
+        return want_write(index, true);
+      }
+    }
+    ++c.dirty_head;
+  }
+  c.dirty.clear();
+  c.dirty_head = 0;
+  c.partial.clear();
+  c.partial_head = 0;
+  want_write(index, false);
+}
+
+bool Server::send_reliable(uint32_t client, std::span<const uint8_t> frame) {
+  if (client >= clients_.size() || clients_[client].state == State::Free) return false;
+  Client& c = clients_[client];
+  size_t queued = c.out.size() - c.out_head;
+  if (queued > node_.options().client_queue_bytes) {
+    log_warn("client %u does not read its replies (%zu bytes queued); disconnecting", client, queued);
+    close_client(client);
+    return false;
+  }
+  if (c.out_head > 0 && c.out_head >= c.out.size() / 2) {
+    c.out.erase(c.out.begin(), c.out.begin() + long(c.out_head));
+    c.out_head = 0;
+  }
+  c.out.insert(c.out.end(), frame.begin(), frame.end());
+  if (!c.writing) flush(client);
+  return true;
+}
+
+void Server::push_data(uint32_t client, DeviceId device, int slot, std::span<const uint8_t> frame) {
+  Client& c = clients_[client];
+  if (c.state != State::Open) return;
+  if (c.udp_port != 0 && frame.size() <= kMaxDatagram) {
+    sockaddr_storage to = c.peer;
+    if (to.ss_family == AF_INET6) {
+      reinterpret_cast<sockaddr_in6*>(&to)->sin6_port = htons(c.udp_port);
+    } else {
+      reinterpret_cast<sockaddr_in*>(&to)->sin_port = htons(c.udp_port);
+    }
+    // Latest wins: a datagram the kernel cannot take now is simply dropped.
+    (void)!sendto(udp_fd_, frame.data(), frame.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&to),
+                  c.peer_len);
+    return;
+  }
+  Node::Reader* reader = node_.find_reader(node_.devices_[device], client);
+  if (reader == nullptr) return;
+  if (reader->dirty == 0) c.dirty.push_back(device);
+  reader->dirty |= uint8_t(1u << slot);
+  if (!c.writing) flush(client);
+}
+
+void Server::close_with_error(uint32_t client, wire::ErrorCode code, std::string_view text) {
+  Client& c = clients_[client];
+  if (c.state != State::Open) return;
+  wire::MessageWriter w(256);
+  auto& b = w.start();
+  auto body = wire::CreateError(b, code, b.CreateString(text.data(), text.size()));
+  auto frame = w.finish(wire::make_header({}, wire::Kind::Error, 0, 0, node_.now_us()), wire::Body::Error,
+                        body.Union());
+  // Data and replies not yet sent are dropped: the Error is the last frame.
+  c.partial.clear();
+  c.partial_head = 0;
+  c.dirty.clear();
+  c.dirty_head = 0;
+  node_.forget_client(client);
+  c.out.insert(c.out.end(), frame.begin(), frame.end());
+  c.state = State::Draining;
+  c.linger = node_.loop().start_timer(kLingerUs, 0, this);
+  flush(client);
+}
+
+void Server::on_timer(TimerId id) {
+  for (uint32_t i = 0; i < clients_.size(); ++i) {
+    if (clients_[i].state == State::Draining && clients_[i].linger == id) {
+      clients_[i].linger = 0;
+      close_client(i);
+    }
+  }
+}
+
+void Server::close_client(uint32_t index) {
+  Client& c = clients_[index];
+  if (c.state == State::Free) return;
+  if (c.state == State::Open) node_.forget_client(index);
+  if (c.linger != 0) node_.loop().cancel_timer(c.linger);
+  c.linger = 0;
+  node_.loop().unwatch(c.fd);
+  if (size_t(c.fd) < client_of_fd_.size()) client_of_fd_[size_t(c.fd)] = 0;
+  close(c.fd);
+  c.fd = -1;
+  c.state = State::Free;
+  ++c.generation;
+  c.out.clear();
+  c.out_head = 0;
+  c.partial.clear();
+  c.partial_head = 0;
+  c.dirty.clear();
+  c.dirty_head = 0;
+  c.writing = false;
+  c.udp_port = 0;
+}
+
+void Server::close_all() {
+  for (uint32_t i = 0; i < clients_.size(); ++i) close_client(i);
+}
+
+}  // namespace troupe

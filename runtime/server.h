@@ -1,0 +1,93 @@
+// Client connections of a node: accept, read frames, write replies and data.
+//
+// Output to a client has two parts. Reliable frames (Hello, replies, device
+// lists, errors) queue in order, up to a byte limit; a client that lets that
+// queue overflow is disconnected. Data never queues: a device keeps only its
+// newest sample, and a client that cannot take it now is marked "dirty" for
+// that device and gets whatever is newest when its socket drains. A slow
+// reader therefore loses old samples, never blocks the loop, never grows
+// memory.
+#pragma once
+
+#include <sys/socket.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "runtime/driver.h"
+#include "runtime/event_loop.h"
+#include "wire/frame.h"
+
+namespace troupe {
+
+class Node;
+
+class Server final : public FdHandler, public TimerHandler {
+ public:
+  explicit Server(Node& node);
+  ~Server();
+
+  bool start(std::string& error);
+  uint16_t port() const { return port_; }
+  size_t client_count() const;
+
+  bool alive(uint32_t client, uint32_t generation) const;
+  uint32_t generation(uint32_t client) const { return clients_[client].generation; }
+
+  /// Queues a reliable frame (copied). False when the client is gone or was
+  /// dropped for not reading.
+  bool send_reliable(uint32_t client, std::span<const uint8_t> frame);
+  /// Offers the newest data of `device` (slot `slot`) to a reader.
+  void push_data(uint32_t client, DeviceId device, int slot, std::span<const uint8_t> frame);
+  /// Sends an Error frame, then closes the connection gracefully.
+  void close_with_error(uint32_t client, wire::ErrorCode code, std::string_view text);
+  void close_all();
+
+  void on_fd(int fd, uint32_t events) override;
+  void on_timer(TimerId id) override;
+
+ private:
+  enum class State : uint8_t { Free, Open, Draining };
+  struct Client {
+    int fd = -1;
+    uint32_t generation = 0;
+    State state = State::Free;
+    wire::FrameReader reader{0};
+    std::vector<uint8_t> out;  // reliable bytes; [out_head, size) unsent
+    size_t out_head = 0;
+    std::vector<uint8_t> partial;  // rest of a data frame the socket took part of
+    size_t partial_head = 0;
+    std::vector<DeviceId> dirty;  // devices with data not yet sent, FIFO
+    size_t dirty_head = 0;
+    std::vector<DeviceId> opened;  // devices this client is a reader of
+    bool writing = false;  // EPOLLOUT armed
+    TimerId linger = 0;
+    sockaddr_storage peer{};
+    socklen_t peer_len = 0;
+    uint16_t udp_port = 0;  // >0: data goes as datagrams to peer:udp_port
+  };
+
+  void accept_clients();
+  void read_client(uint32_t index);
+  void flush(uint32_t index);
+  /// Writes as much of `bytes` as the socket takes; returns bytes written,
+  /// or -1 when the connection failed.
+  long write_some(Client& c, std::span<const uint8_t> bytes);
+  void want_write(uint32_t index, bool on);
+  void close_client(uint32_t index);
+  void handle_hello(uint32_t index, const wire::Message& msg);
+  uint32_t index_of_fd(int fd) const;
+
+  friend class Node;
+
+  Node& node_;
+  int listen_fd_ = -1;
+  int udp_fd_ = -1;
+  uint16_t port_ = 0;
+  std::vector<Client> clients_;
+  std::vector<uint32_t> client_of_fd_;  // fd -> client index + 1 (0: none)
+};
+
+}  // namespace troupe

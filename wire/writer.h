@@ -1,0 +1,44 @@
+// Building frames. One MessageWriter is reused for every message a component
+// sends: after the first few messages its buffer has the size it needs and
+// building allocates nothing.
+#pragma once
+
+#include <span>
+
+#include "wire/message.h"
+
+namespace troupe::wire {
+
+class MessageWriter {
+ public:
+  explicit MessageWriter(size_t initial_bytes = 1024) : fbb_(initial_bytes) {}
+
+  /// Forgets the previous message; build the body with builder() next.
+  flatbuffers::FlatBufferBuilder& start() {
+    fbb_.Clear();
+    return fbb_;
+  }
+  flatbuffers::FlatBufferBuilder& builder() { return fbb_; }
+
+  /// Completes the message begun with start(): its header and body (built in
+  /// builder() since start()). Returns the frame, prefix included; it stays
+  /// valid until the next start().
+  std::span<const uint8_t> finish(const Header& header, Body type = Body::NONE,
+                                  flatbuffers::Offset<void> body = 0) {
+    fbb_.FinishSizePrefixed(CreateMessage(fbb_, &header, type, body));
+    return frame();
+  }
+
+  /// A message without a body (Close, Pull, requests without arguments).
+  std::span<const uint8_t> empty(const Header& header) {
+    start();
+    return finish(header);
+  }
+
+  std::span<const uint8_t> frame() const { return {fbb_.GetBufferPointer(), fbb_.GetSize()}; }
+
+ private:
+  flatbuffers::FlatBufferBuilder fbb_;
+};
+
+}  // namespace troupe::wire
