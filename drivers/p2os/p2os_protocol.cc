@@ -159,6 +159,20 @@ size_t PacketScanner::feed(std::span<const uint8_t> in, std::span<const uint8_t>
   return used;
 }
 
+bool PacketScanner::expire(std::span<const uint8_t>& payload) {
+  if (consume_ > 0) {
+    drop_front(consume_);
+    consume_ = 0;
+  }
+  while (size_ > 0) {
+    if (scan(payload)) return true;
+    // The packet at the front will not complete: hunt on past its header.
+    ++skipped_;
+    drop_front(1);
+  }
+  return false;
+}
+
 bool parse_sip(std::span<const uint8_t> p, Sip& out, const char** why) {
   auto fail = [why](const char* text) {
     if (why) *why = text;

@@ -99,6 +99,13 @@ class PacketScanner {
   size_t feed(std::span<const uint8_t> in, std::span<const uint8_t>& payload);
   /// Drops any partial packet (after a baud change or a reopen).
   void reset() { size_ = consume_ = 0; }
+  /// Bytes of a packet not yet complete are held.
+  bool partial() const { return size_ > consume_; }
+  /// Gives up on a partial packet (the sender went quiet in the middle of
+  /// it; a corrupted count makes a packet look longer than it is): returns
+  /// the next whole packet still held behind it in `payload`, or false when
+  /// none is left, the rest dropped.
+  bool expire(std::span<const uint8_t>& payload);
 
   uint32_t packets() const { return packets_; }
   uint32_t bad_checksums() const { return bad_checksums_; }
@@ -128,6 +135,13 @@ void scan_packets(PacketScanner& scanner, std::span<const uint8_t> in, OnPayload
       return;
     }
   }
+}
+
+/// expire()s a stalled partial packet, calling `on_payload` for every whole
+/// packet that was held behind it.
+template <typename OnPayload>
+void expire_packets(PacketScanner& scanner, OnPayload&& on_payload) {
+  for (std::span<const uint8_t> payload; scanner.expire(payload);) on_payload(payload);
 }
 
 /// SIP type bytes: 0x32 stopped, 0x33 moving; 0x30-0x34 are standard SIPs.

@@ -129,6 +129,22 @@ TEST(P2osScanner, RejectsImpossibleCounts) {
   EXPECT_EQ(found[0], (Bytes{0}));
 }
 
+TEST(P2osScanner, ExpiringAStalledPacketFreesThoseBehindIt) {
+  // A corrupted count (0xc8: 200 bytes) makes the first packet look long;
+  // two good packets sit behind it, and nothing more comes.
+  Bytes bogus = {0xfa, 0xfb, 0xc5, 0x04};
+  Bytes stream = join({bogus, bytes(command(Command::Pulse)), bytes(command_int(Command::Vel, 300))});
+  PacketScanner s;
+  EXPECT_TRUE(scan_all(s, stream, 64).empty());
+  EXPECT_TRUE(s.partial());
+  std::vector<Bytes> found;
+  expire_packets(s, [&](std::span<const uint8_t> p) { found.emplace_back(p.begin(), p.end()); });
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_EQ(found[0], (Bytes{0}));
+  EXPECT_EQ(found[1], (Bytes{0x0b, 0x3b, 0x2c, 0x01}));
+  EXPECT_FALSE(s.partial());
+}
+
 TEST(P2osSip, ParsesFieldsAtTheirOffsets) {
   // A SIP written out by hand, byte by byte, from the table in protocols.md.
   Bytes p = {0x33,  // moving

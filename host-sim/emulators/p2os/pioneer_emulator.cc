@@ -13,6 +13,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // Heading counts per turn: the firmware sends 0..4095.
 constexpr int kHeadingCounts = 4096;
+// A partial packet is dropped after this long without a byte, us. At 9600
+// baud bytes come every millisecond.
+constexpr uint64_t kPacketGapUs = 50'000;
 
 double approach(double current, double target, double max_change) {
   return current + std::clamp(target - current, -max_change, max_change);
@@ -21,7 +24,10 @@ double approach(double current, double target, double max_change) {
 }  // namespace
 
 PioneerEmulator::PioneerEmulator(Config config, PioneerWorld* world)
-    : config_(std::move(config)), world_(world ? world : &default_world_), faults_(config_.seed) {
+    : config_(std::move(config)),
+      world_(world ? world : &default_world_),
+      faults_(config_.seed),
+      inbound_faults_(config_.seed + 1) {
   robot_ = drivers::p2os::find_robot(config_.model);
   if (robot_ == nullptr) robot_ = drivers::p2os::find_robot("p3dx-sh");
 }
@@ -58,11 +64,19 @@ void PioneerEmulator::step(uint64_t now_us) {
     last_step_us_ = last_packet_us_ = now_us;
   }
   now_us_ = now_us;
-  uint8_t buf[256];
-  for (size_t n; (n = port_.read(buf)) > 0;) {
-    std::span<uint8_t> bytes(buf, n);
+  uint8_t buf[256], heard[256];
+  bool heard_any = false;
+  for (size_t n; (n = port_.read(buf)) > 0; heard_any = true) {
+    std::span<uint8_t> bytes(heard, inbound_faults_.apply({buf, n}, heard));
     if (baud_mismatch()) faults_.mangle(bytes);
     drivers::p2os::scan_packets(scanner_, bytes, [this](std::span<const uint8_t> p) { receive(p); });
+  }
+  // The firmware's receiver forgets a packet whose bytes stop coming, so a
+  // corrupted count cannot hold the next commands back.
+  if (heard_any) {
+    last_byte_us_ = now_us;
+  } else if (scanner_.partial() && now_us - last_byte_us_ > kPacketGapUs) {
+    drivers::p2os::expire_packets(scanner_, [this](std::span<const uint8_t> p) { receive(p); });
   }
   double dt = double(now_us - last_step_us_) * 1e-6;
   last_step_us_ = now_us;

@@ -68,7 +68,10 @@ class PioneerEmulator {
   void step(uint64_t now_us);
 
   // ---- Faults ----
+  /// Faults on what the robot sends (each packet passes through them).
   LineFaults& faults() { return faults_; }
+  /// Faults on what the robot hears (each chunk read passes through them).
+  LineFaults& inbound_faults() { return inbound_faults_; }
   /// Sends `bytes` of noise now.
   void inject_noise(size_t bytes);
   /// The port vanishes (pty closed, link removed).
@@ -119,6 +122,7 @@ class PioneerEmulator {
   PtyPort port_;
   std::string link_;
   LineFaults faults_;
+  LineFaults inbound_faults_;
   drivers::p2os::PacketScanner scanner_;
 
   Session session_ = Session::WaitSync0;
@@ -129,7 +133,7 @@ class PioneerEmulator {
   PioneerSenses senses_;
   bool stalled_ = false;
   int next_sonar_ = 0;
-  uint64_t now_us_ = 0, last_step_us_ = 0, last_packet_us_ = 0, next_sip_us_ = 0;
+  uint64_t now_us_ = 0, last_step_us_ = 0, last_byte_us_ = 0, last_packet_us_ = 0, next_sip_us_ = 0;
   bool started_ = false;
   uint32_t sips_sent_ = 0, packets_received_ = 0;
 };
