@@ -3,6 +3,7 @@
 set(BOARD_DRIVERS
   kinematic
   p2os
+  sicklms200
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

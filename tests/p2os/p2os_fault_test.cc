@@ -3,10 +3,7 @@
 // never stops serving the kinematic base, and odometry stays the robot's.
 // The loop runs everything in one thread, so a driver that blocked would
 // stall the robot too and fail these tests by their deadlines.
-#include <fcntl.h>
-#include <termios.h>
-#include <unistd.h>
-
+#include "tests/device_harness/raw_port.h"
 #include "tests/p2os/p2os_fixture.h"
 
 namespace troupe::testing {
@@ -163,20 +160,13 @@ TEST_F(P2osFaults, ASessionLeftOpenByAnEarlierClient) {
   loop_.add([this](uint64_t now) { robot_->step(now); });
   {
     // An earlier client opened a session and died without CLOSE.
-    int fd = ::open(robot_->path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
-    ASSERT_GE(fd, 0);
-    termios t{};
-    tcgetattr(fd, &t);
-    cfmakeraw(&t);
-    cfsetspeed(&t, B9600);
-    tcsetattr(fd, TCSANOW, &t);
+    RawPort earlier(robot_->path(), B9600);
+    ASSERT_TRUE(earlier.ok());
     for (auto c : {drivers::p2os::Command::Sync0, drivers::p2os::Command::Sync1,
                    drivers::p2os::Command::Sync2, drivers::p2os::Command::Open}) {
-      drivers::p2os::Packet p = drivers::p2os::command(c);
-      ASSERT_EQ(::write(fd, p.bytes.data(), p.size), ssize_t(p.size));
+      ASSERT_TRUE(earlier.write(drivers::p2os::command(c).view()));
       loop_.run_for(0.05);
     }
-    ::close(fd);
   }
   ASSERT_EQ(robot_->session(), emulators::PioneerEmulator::Session::Open);
   start_node();

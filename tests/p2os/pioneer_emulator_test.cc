@@ -3,15 +3,14 @@
 // "after 2 s" are checked exactly, not timed).
 #include "host-sim/emulators/p2os/pioneer_emulator.h"
 
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <cstring>
 #include <vector>
 
 #include "tests/device_harness/device_harness.h"
+#include "tests/device_harness/raw_port.h"
 
 namespace troupe::emulators {
 namespace {
@@ -22,44 +21,22 @@ using Bytes = std::vector<uint8_t>;
 
 constexpr uint64_t kMs = 1000;
 
-// The client's end of the pty, opened the plain way.
-class RawPort {
+// The client's end of the pty, speaking P2OS packets.
+class RawPort : public testing::RawPort {
  public:
-  RawPort(const std::string& path, speed_t speed) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
-    set_speed(speed);
-  }
-  ~RawPort() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  bool ok() const { return fd_ >= 0; }
-  void set_speed(speed_t speed) {
-    termios t{};
-    tcgetattr(fd_, &t);
-    cfmakeraw(&t);
-    cfsetispeed(&t, speed);
-    cfsetospeed(&t, speed);
-    tcsetattr(fd_, TCSANOW, &t);
-  }
-  void write(std::span<const uint8_t> bytes) {
-    ASSERT_EQ(::write(fd_, bytes.data(), bytes.size()), ssize_t(bytes.size()));
-  }
+  using testing::RawPort::RawPort;
+  void write(std::span<const uint8_t> bytes) { ASSERT_TRUE(testing::RawPort::write(bytes)); }
   void send(const Packet& p) { write(p.view()); }
-  ssize_t read_once(uint8_t* buf, size_t n) { return ::read(fd_, buf, n); }
   // Every packet that has arrived, as payloads.
   std::vector<Bytes> packets() {
     std::vector<Bytes> out;
-    uint8_t buf[512];
-    ssize_t n;
-    while ((n = ::read(fd_, buf, sizeof buf)) > 0) {
-      drivers::p2os::scan_packets(scanner_, {buf, size_t(n)},
-                                  [&](std::span<const uint8_t> p) { out.emplace_back(p.begin(), p.end()); });
-    }
+    Bytes bytes = read_all();
+    drivers::p2os::scan_packets(scanner_, bytes,
+                                [&](std::span<const uint8_t> p) { out.emplace_back(p.begin(), p.end()); });
     return out;
   }
 
  private:
-  int fd_ = -1;
   drivers::p2os::PacketScanner scanner_;
 };
 
