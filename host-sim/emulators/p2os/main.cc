@@ -34,7 +34,7 @@ const char kUsage[] =
     "  --no-baud-check  talk whatever speed the driver's end is set to\n"
     "\n"
     "example:\n"
-    "  troupe-emulate-p2os --link /tmp/pioneer --baud 38400\n";
+    "  troupe-emulate-p2os --link pioneer-port --baud 38400\n";
 
 volatile sig_atomic_t g_stop = 0;
 

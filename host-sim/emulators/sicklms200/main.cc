@@ -32,7 +32,7 @@ const char kUsage[] =
     "  --no-baud-check  talk whatever speed the driver's end is set to\n"
     "\n"
     "example:\n"
-    "  troupe-emulate-sicklms200 --link /tmp/laser\n";
+    "  troupe-emulate-sicklms200 --link laser-port\n";
 
 volatile sig_atomic_t g_stop = 0;
 
