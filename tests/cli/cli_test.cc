@@ -120,7 +120,7 @@ TEST_F(Cli, VelCommandMakesTheEchoedPoseChange) {
   // The base accelerates at 0.5 m/s^2 (the example's limit): after about a
   // second it has moved; echo until it shows.
   double x = 0;
-  for (int i = 0; i < 100 && x < 0.05; ++i) {
+  for (int i = 0; i < 100 && x <= 0.05; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     Result after = troupe("echo " + host_ + " position2d:0 --count 1");
     ASSERT_EQ(after.rc, 0) << after.err;
