@@ -40,10 +40,12 @@ void body_velocity(const WheelTurnRates& motor, const DriveGeometry& g, float& v
 void integrate(Odometry& odom, double left_m, double right_m, double track_width) {
   double ds = 0.5 * (left_m + right_m);
   double da = (right_m - left_m) / track_width;
-  // Midpoint rule: exact for the arc's chord direction.
-  double mid = odom.a + 0.5 * da;
-  odom.x += ds * std::cos(mid);
-  odom.y += ds * std::sin(mid);
+  // Wheels turning at constant rates trace an arc: its chord points along
+  // the mean heading and is shorter than the arc by sin(h)/h, h = da/2.
+  double h = 0.5 * da;
+  double chord = std::fabs(h) < 1e-9 ? ds : ds * std::sin(h) / h;
+  odom.x += chord * std::cos(odom.a + h);
+  odom.y += chord * std::sin(odom.a + h);
   odom.a = std::remainder(odom.a + da, kTwoPi);
 }
 

@@ -527,7 +527,8 @@ void OdriveCan::on_request(DeviceId device, const wire::Message& req, RequestTok
       if (sw == nullptr)
         return node_->nack(token, wire::ErrorCode::BadArgument, "motor power needs a Switch body");
       if (!sw->on()) {
-        target_v_ = target_w_ = 0;
+        // The command is kept, as the kinematic driver keeps it: power on
+        // again and the base does what it was last told.
         if (state_ != State::MotorsOff) enter(State::MotorsOff);
         return node_->ack(token);
       }
