@@ -86,7 +86,7 @@ IoResult read_frame(int fd, can_frame& frame, int& errno_out) {
     if (errno == EINTR) continue;
     if (errno == EAGAIN || errno == EWOULDBLOCK) return IoResult::WouldBlock;
     errno_out = errno;
-    return IoResult::Closed;
+    return errno == ENETDOWN ? IoResult::Down : IoResult::Closed;
   }
 }
 
@@ -104,6 +104,7 @@ IoResult write_frame(int fd, const can_frame& frame, int& errno_out) {
     if (errno == EINTR) continue;
     if (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS) return IoResult::WouldBlock;
     errno_out = errno;
+    if (errno == ENETDOWN) return IoResult::Down;
     return errno == EINVAL ? IoResult::Rejected : IoResult::Closed;
   }
 }

@@ -28,7 +28,9 @@ enum class IoResult : uint8_t {
   WouldBlock,  // nothing to read now / the queue is full (the frame is dropped)
   Short,       // a read returned a datagram that is not one can_frame (ignored)
   Rejected,    // the kernel refused to send this frame (EINVAL: e.g. DLC > 8)
-  Closed,      // the other end is gone (EOF, ENETDOWN, EBADF...): stop using it
+  Down,        // the interface is down (ENETDOWN): nothing moves until it is up again,
+               // and the socket stays usable
+  Closed,      // the other end is gone (EOF, ENODEV, EBADF...): stop using it
 };
 
 /// Reads one frame. `errno_out` holds errno for Closed, or the byte count

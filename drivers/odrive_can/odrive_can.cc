@@ -171,6 +171,12 @@ bool OdriveCan::open_bus(std::string& error) {
   return true;
 }
 
+void OdriveCan::bus_down() {
+  // The socket survives an interface going down and works again once it is
+  // up: heartbeats coming back then lead out of Fault as after any silence.
+  if (state_ != State::Fault) fault("CAN interface %s is down", given_fd_ >= 0 ? "(given)" : ifname_.c_str());
+}
+
 void OdriveCan::lose_bus(const char* what, int err) {
   if (fd_ < 0) return;
   node_->loop().unwatch(fd_);
@@ -205,6 +211,8 @@ void OdriveCan::on_fd(int fd, uint32_t events) {
         warn_limited("%s: a read gave %d bytes, not one %zu-byte can_frame: ignored", name_.c_str(), err,
                      sizeof(can_frame));
         break;
+      case cansimple::IoResult::Down:
+        return bus_down();
       case cansimple::IoResult::Closed:
         return lose_bus(err ? "read" : "the other end closed", err);
     }
@@ -315,6 +323,8 @@ void OdriveCan::send(const can_frame& f) {
     case cansimple::IoResult::Rejected:
       warn_limited("%s: the kernel refused frame 0x%03x", name_.c_str(), unsigned(f.can_id));
       return;
+    case cansimple::IoResult::Down:
+      return bus_down();
     case cansimple::IoResult::Closed:
       return lose_bus("write", err);
   }
@@ -389,6 +399,7 @@ void OdriveCan::fault(const char* fmt, ...) {
   va_start(args, fmt);
   vsnprintf(text, sizeof text, fmt, args);
   va_end(args);
+  if (state_ == State::Fault && fault_text_ == text) return;  // nothing new
   uint64_t now = node_->loop().now_us();
   // Back off while recovery keeps failing; a base that ran a while since the
   // last fault starts again from the first delay.

@@ -75,6 +75,7 @@ class OdriveCan : public Driver {
   bool read_options(const DriverSetup& setup, std::string& error);
   bool open_bus(std::string& error);
   void lose_bus(const char* what, int err);
+  void bus_down();
 
   // Frames in
   void handle_frame(const can_frame& f);

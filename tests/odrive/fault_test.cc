@@ -166,6 +166,7 @@ TEST(OdriveFaults, RebootedAxisDoesNotTeleportTheOdometry) {
 
 TEST(OdriveFaults, BusGoneStopsTheDriverNotTheNode) {
   OdriveRig rig;
+  if (!rig.can_interface().empty()) GTEST_SKIP() << "socketpair only; kernel_bus_test removes the interface";
   start_driving(rig);
   rig.close_bus();
   ASSERT_TRUE(rig.run_until([&] { return rig.base().stall; }, 3));

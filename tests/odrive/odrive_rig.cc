@@ -3,6 +3,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cstdlib>
+
 #include "drivers/odrive_can/can_io.h"
 #include "runtime/node_config.h"
 
@@ -45,6 +47,11 @@ OdriveRig::OdriveRig(RigConfig config) : node(node_options_for_tests()) {
       config.axes.push_back(a);
     }
   }
+  // The vcan VM test runs this same bench over a kernel interface.
+  if (const char* iface = getenv("TROUPE_TEST_CAN_INTERFACE"); iface && config.can_interface.empty()) {
+    config.can_interface = iface;
+  }
+  can_interface_ = config.can_interface;
   std::string bus;
   if (config.can_interface.empty()) {
     int pair[2];
@@ -110,6 +117,16 @@ void OdriveRig::close_bus() {
   emu->stop();
   if (emulator_fd_ >= 0) close(emulator_fd_);
   emulator_fd_ = -1;
+}
+
+bool OdriveRig::restart_emulator(std::string& error) {
+  emulators::odrive::EmulatorOptions eo = emu->options();
+  emu->stop();
+  if (emulator_fd_ >= 0) close(emulator_fd_);
+  emulator_fd_ = cansimple::open_can_socket(can_interface_, {}, error);
+  if (emulator_fd_ < 0) return false;
+  emu = std::make_unique<emulators::odrive::OdriveEmulator>(node.loop(), emulator_fd_, eo);
+  return emu->start(error);
 }
 
 }  // namespace troupe::testing

@@ -54,6 +54,11 @@ class OdriveRig {
 
   /// The emulator's end of the bus goes away (socketpair only).
   void close_bus();
+  /// A fresh emulator on a new socket of the same interface (kernel CAN
+  /// only), for after the interface was deleted and created again.
+  bool restart_emulator(std::string& error);
+  /// The kernel interface in use, or "" on a socketpair.
+  const std::string& can_interface() const { return can_interface_; }
 
   emulators::odrive::Axis& left() { return *emu->axis(kLeft); }
   emulators::odrive::Axis& right() { return *emu->axis(kRight); }
@@ -66,6 +71,7 @@ class OdriveRig {
 
  private:
   std::string error_;
+  std::string can_interface_;
   int driver_fd_ = -1, emulator_fd_ = -1;
   std::vector<uint8_t> config_bytes_;
 };

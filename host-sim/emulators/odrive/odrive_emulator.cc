@@ -115,6 +115,8 @@ void OdriveEmulator::on_fd(int fd, uint32_t events) {
       case cs::IoResult::WouldBlock:
         if (events & (EPOLLHUP | EPOLLERR)) stop();
         return;
+      case cs::IoResult::Down:  // the interface went down; frames flow again once it is up
+        return;
       case cs::IoResult::Closed:
         log_info("odrive emulator: the bus closed%s%s", err ? ": " : "", err ? strerror(err) : "");
         stop();

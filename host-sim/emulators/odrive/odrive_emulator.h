@@ -57,6 +57,7 @@ class OdriveEmulator final : public FdHandler, public TimerHandler {
   /// The axis with `node_id`, or nullptr.
   Axis* axis(uint8_t node_id);
   const EmulatorCounters& counters() const { return counters_; }
+  const EmulatorOptions& options() const { return options_; }
   /// False once the descriptor failed (the other end closed).
   bool connected() const { return fd_ >= 0; }
 
