@@ -33,16 +33,17 @@ void start_driving(OdriveRig& rig) {
       rig.run_until([&] { return rig.left().velocity() > 0.5f && rig.right().velocity() > 0.5f; }, 3));
 }
 
-// Waits for the driver to report the fault, and checks that it stopped both
-// axes: each is IDLE or commanded to zero.
+// Waits for the driver to report the fault, then for both axes to stop: each
+// is IDLE or commanded to zero (by the driver, or by its own watchdog when
+// the driver's frames cannot reach it).
 void expect_stopped_and_reported(OdriveRig& rig, const std::string& why) {
   ASSERT_TRUE(rig.run_until([&] { return rig.base().stall; }, 3)) << "no stall reported";
   EXPECT_NE(rig.base().fault.find(why), std::string::npos) << "fault text: " << rig.base().fault;
-  rig.run_for(0.2);  // frames in flight
-  for (auto* axis : {&rig.left(), &rig.right()}) {
-    EXPECT_TRUE(axis->state() == AxisState::Idle || axis->input_vel() == 0.0f)
-        << "node " << int(axis->node_id()) << " still driven";
-  }
+  auto stopped = [](const emulators::odrive::Axis& axis) {
+    return axis.state() == AxisState::Idle || axis.input_vel() == 0.0f;
+  };
+  EXPECT_TRUE(rig.run_until([&] { return stopped(rig.left()) && stopped(rig.right()); }, 2))
+      << "an axis is still driven";
 }
 
 // The other device answers commands and streams data throughout `seconds`.
@@ -106,6 +107,9 @@ TEST(OdriveFaults, DroppedFramesBurstStopsAndRecovers) {
   start_driving(rig);
   rig.emu->set_drop_probability(1.0);  // the bus loses everything
   expect_stopped_and_reported(rig, "silent");
+  // The driver's stop frames were lost too: the axes' watchdogs stopped them.
+  EXPECT_EQ(rig.left().error(), axis_error::kWatchdogTimerExpired);
+  EXPECT_EQ(rig.right().error(), axis_error::kWatchdogTimerExpired);
   expect_other_device_served(rig, 0.5);
   rig.emu->set_drop_probability(0);
   ASSERT_TRUE(rig.run_until([&] { return recovered(rig); }, 5)) << rig.base().fault;
