@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "drivers/odrive_can/can_io.h"
+#include "host-sim/emulators/odrive/fault_console.h"
 #include "host-sim/emulators/odrive/odrive_emulator.h"
 
 namespace troupe::emulators::odrive {
@@ -145,6 +146,26 @@ TEST(OdriveAxis, AnswersGetRequestsAsRemoteFramesOrEmptyFrames) {
   EXPECT_EQ(b.axis.malformed_frames(), 1u);
 }
 
+TEST(OdriveAxis, ExternalWheelReportsWhatTheSimulatorSets) {
+  AxisConfig c;
+  c.external_wheel = true;
+  AxisBench b(c);
+  b.send(cs::set_controller_modes_frame(0, {cs::ControlMode::Velocity, cs::InputMode::VelRamp}));
+  b.arm();
+  b.send(cs::set_input_vel_frame(0, {3.0f, 0}));
+  b.run(50);  // the ramp runs: 20 turns/s^2 for 50 ms
+  EXPECT_NEAR(b.axis.velocity_demand(), 1.0f, 1e-3f);
+  EXPECT_EQ(b.axis.velocity(), 0.0f);  // nothing moves the wheel but the simulator
+  b.axis.set_wheel(12.5, 0.9f);
+  b.run(10);
+  cs::EncoderEstimates est;
+  ASSERT_TRUE(cs::parse(b.axis.encoder_estimates(), est));
+  EXPECT_EQ(est.pos_turns, 12.5f);
+  EXPECT_EQ(est.vel_turns_s, 0.9f);
+  b.send(cs::set_axis_state_frame(0, AxisState::Idle));
+  EXPECT_EQ(b.axis.velocity_demand(), 0.0f);
+}
+
 TEST(OdriveAxis, WrappedPositionReport) {
   AxisConfig c;
   c.wrap_turns = 1.0f;
@@ -263,6 +284,29 @@ TEST_F(EmulatorBus, SameSeedDropsTheSameFrames) {
   EXPECT_NE(pattern(42), pattern(43));
   EXPECT_NE(pattern(42).find('x'), std::string::npos);
   EXPECT_NE(pattern(42).find('.'), std::string::npos);
+}
+
+TEST_F(EmulatorBus, FaultCommandsAndTheirErrors) {
+  EXPECT_EQ(apply_fault_command(*emu_, "silent 5 on", 0), "node 5 silent");
+  auto seen = listen(250);
+  EXPECT_EQ(seen[cs::make_id(5, cs::Cmd::Heartbeat)], 0);
+  apply_fault_command(*emu_, "silent 5 off", 0);
+  EXPECT_NE(apply_fault_command(*emu_, "error 4 0x100 keep", 0).find("ENCODER_FAILED"), std::string::npos);
+  EXPECT_EQ(emu_->axis(4)->error(), cs::axis_error::kEncoderFailed);
+  send(cs::empty_frame(4, cs::Cmd::ClearErrors));
+  listen(20);
+  EXPECT_EQ(emu_->axis(4)->error(), cs::axis_error::kEncoderFailed);  // kept
+  apply_fault_command(*emu_, "clear 4", 0);
+  send(cs::empty_frame(4, cs::Cmd::ClearErrors));
+  listen(20);
+  EXPECT_EQ(emu_->axis(4)->error(), 0u);
+  // Bad lines say what is wrong and change nothing.
+  EXPECT_NE(apply_fault_command(*emu_, "silent 9 on", 0).find("'9' is not a node id"), std::string::npos);
+  EXPECT_NE(apply_fault_command(*emu_, "drop 1.5", 0).find("[0, 1]"), std::string::npos);
+  EXPECT_NE(apply_fault_command(*emu_, "error 4 zero", 0).find("error NODE BITS"), std::string::npos);
+  EXPECT_NE(apply_fault_command(*emu_, "explode 4", 0).find("unknown command 'explode'"), std::string::npos);
+  EXPECT_EQ(apply_fault_command(*emu_, "   ", 0), "");
+  EXPECT_EQ(emu_->axis(4)->error(), 0u);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "drivers/odrive_can/can_io.h"
+#include "host-sim/emulators/odrive/fault_console.h"
 #include "host-sim/emulators/odrive/odrive_emulator.h"
 #include "runtime/log.h"
 
@@ -45,6 +46,9 @@ const char kUsage[] =
     "  --seed N            seed for the drop decisions (default 1)\n"
     "  --status-ms N       print the axes' state every N ms (default 1000; 0: never)\n"
     "\n"
+    "Fault commands on standard input, one a line: silent NODE on|off,\n"
+    "error NODE BITS [keep], clear NODE, reboot NODE, drop P, garbage NODE N, status.\n"
+    "\n"
     "examples:\n"
     "  troupe-odrive-emu -- troupe-node examples/nodes/odrive_emulated.json\n"
     "  troupe-odrive-emu --can vcan0 --nodes 0,1 --watchdog-ms 300\n";
@@ -71,17 +75,17 @@ bool parse_nodes(const char* text, std::vector<uint8_t>& out) {
   return !out.empty();
 }
 
-// Prints the axes' state now and then; stops the loop on a signal or when the
-// child exits.
+// Reads fault commands from standard input, prints the axes' state now and
+// then, and stops the loop on a signal or when the child exits.
 class Watch final : public troupe::FdHandler, public troupe::TimerHandler {
  public:
-  Watch(troupe::EventLoop& loop, OdriveEmulator& emu, const std::vector<uint8_t>& nodes)
-      : loop_(loop), emu_(emu), nodes_(nodes) {}
+  Watch(troupe::EventLoop& loop, OdriveEmulator& emu) : loop_(loop), emu_(emu) {}
   int signal_fd = -1;
   pid_t child = -1;
   int exit_code = 0;
 
   void on_fd(int fd, uint32_t) override {
+    if (fd == STDIN_FILENO) return read_commands();
     signalfd_siginfo info{};
     if (read(fd, &info, sizeof info) != sizeof info) return;
     if (info.ssi_signo == SIGCHLD) {
@@ -97,23 +101,38 @@ class Watch final : public troupe::FdHandler, public troupe::TimerHandler {
     loop_.stop();
   }
   void on_timer(troupe::TimerId) override {
-    std::string line;
-    for (uint8_t n : nodes_) {
-      const auto* a = emu_.axis(n);
-      char part[160];
-      snprintf(part, sizeof part, "%snode %u %s err 0x%x vel %+.2f turns/s pos %+.2f turns",
-               line.empty() ? "" : " | ", n, troupe::cansimple::axis_state_name(a->state()),
-               unsigned(a->error()), double(a->velocity()), a->position_turns());
-      line += part;
-    }
-    printf("%s\n", line.c_str());
+    printf("%s\n", status_line().c_str());
     fflush(stdout);
   }
 
  private:
+  std::string status_line() {
+    std::string line;
+    for (const AxisConfig& c : emu_.options().axes) {
+      line += (line.empty() ? "" : " | ") + troupe::emulators::odrive::axis_status(*emu_.axis(c.node_id));
+    }
+    return line;
+  }
+  void read_commands() {
+    char chunk[512];
+    ssize_t n = read(STDIN_FILENO, chunk, sizeof chunk);
+    if (n <= 0) {
+      loop_.unwatch(STDIN_FILENO);  // no more commands; the emulator runs on
+      return;
+    }
+    pending_.append(chunk, size_t(n));
+    for (size_t end; (end = pending_.find('\n')) != std::string::npos; pending_.erase(0, end + 1)) {
+      std::string reply = troupe::emulators::odrive::apply_fault_command(
+          emu_, std::string_view(pending_).substr(0, end), loop_.now_us());
+      if (!reply.empty()) printf("%s\n", reply.c_str());
+    }
+    if (pending_.size() > 4096) pending_.clear();  // a line that never ends is no command
+    fflush(stdout);
+  }
+
   troupe::EventLoop& loop_;
   OdriveEmulator& emu_;
-  std::vector<uint8_t> nodes_;
+  std::string pending_;
 };
 
 }  // namespace
@@ -232,10 +251,11 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  Watch watch(loop, emu, nodes);
+  Watch watch(loop, emu);
   watch.child = child;
   watch.signal_fd = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
   loop.watch(watch.signal_fd, 1 /*EPOLLIN*/, &watch);
+  loop.watch(STDIN_FILENO, 1 /*EPOLLIN*/, &watch);  // fails quietly for a regular file: no commands then
   if (status_ms > 0) loop.start_timer(uint64_t(status_ms) * 1000u, uint64_t(status_ms) * 1000u, &watch);
   troupe::log_info("%zu axes on %s", nodes.size(),
                    !ifname.empty() ? ifname.c_str()

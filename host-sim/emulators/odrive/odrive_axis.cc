@@ -134,12 +134,19 @@ void Axis::step(uint64_t now_us) {
     } else {
       vel_setpoint_ = target;
     }
+  }
+  if (config_.external_wheel) return;
+  if (state_ == AxisState::ClosedLoopControl) {
     vel_ += (vel_setpoint_ - vel_) * (1.0f - std::exp(-dt / config_.response_time));
   } else {
     vel_ *= std::exp(-dt / config_.coast_time);
   }
   accel_ = dt > 0 ? (vel_ - before) / dt : 0;
   pos_turns_ += double(0.5f * (before + vel_)) * double(dt);
+}
+
+float Axis::velocity_demand() const {
+  return armed() ? vel_setpoint_ : 0.0f;
 }
 
 float Axis::bus_amps() const {

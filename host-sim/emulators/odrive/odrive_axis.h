@@ -35,6 +35,10 @@ struct AxisConfig {
   /// Current the axis draws at rest and per turn/s, A and A*s/turn.
   float idle_amps = 0.3f;
   float amps_per_turn_s = 0.15f;
+  /// true: a simulator moves the wheel (set_wheel()) and reads the
+  /// controller's demand (velocity_demand()); step() then runs the firmware
+  /// (ramp, watchdog) but not the wheel's physics.
+  bool external_wheel = false;
 };
 
 class Axis {
@@ -58,6 +62,20 @@ class Axis {
   void set_bus(float volts, float amps) {
     bus_volts_ = volts;
     bus_total_amps_ = amps;
+  }
+
+  // ---- For a simulator that moves the wheel (AxisConfig::external_wheel) ----
+
+  /// The velocity the controller asks of the motor now, turns/s: the ramped
+  /// setpoint while in closed loop, 0 otherwise (the motor is unpowered).
+  float velocity_demand() const;
+  /// True while the motor is powered (closed loop): an unpowered wheel coasts.
+  bool armed() const { return state_ == cansimple::AxisState::ClosedLoopControl; }
+  /// The wheel as the simulator moved it: position (unwrapped), turns, and
+  /// velocity, turns/s. The encoder estimates report these.
+  void set_wheel(double pos_turns, float vel_turns_s) {
+    pos_turns_ = pos_turns;
+    vel_ = vel_turns_s;
   }
 
   // ---- Faults ----------------------------------------------------------------
