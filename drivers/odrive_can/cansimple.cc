@@ -85,19 +85,6 @@ const char* axis_state_name(AxisState state) {
   return "OTHER";
 }
 
-uint8_t payload_bytes(Cmd cmd) {
-  switch (cmd) {
-    case Cmd::Estop:
-    case Cmd::Reboot:
-    case Cmd::ClearErrors:
-      return 0;
-    case Cmd::SetAxisState:
-      return 4;
-    default:
-      return 8;
-  }
-}
-
 can_frame heartbeat_frame(uint8_t node_id, const Heartbeat& hb) {
   can_frame f = blank(node_id, Cmd::Heartbeat, 8);
   put_u32(f.data, hb.axis_error);

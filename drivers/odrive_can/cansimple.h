@@ -153,9 +153,6 @@ bool parse(const can_frame& f, InputVel& out);
 /// Set_Axis_State: the requested state as sent (not checked against AxisState).
 bool parse_requested_state(const can_frame& f, uint32_t& state);
 
-/// Bytes a command's payload needs (0 for commands without one).
-uint8_t payload_bytes(Cmd cmd);
-
 // Little-endian field access, independent of the host's byte order.
 void put_u32(uint8_t* p, uint32_t v);
 uint32_t get_u32(const uint8_t* p);
