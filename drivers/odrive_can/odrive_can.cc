@@ -45,6 +45,14 @@ const char* state_name(State s) {
 }
 
 OdriveCan::~OdriveCan() {
+  // After a failed setup shutdown() never runs: leave nothing in the loop
+  // that points here. (The node's loop outlives its drivers.)
+  if (node_ != nullptr) {
+    for (TimerId t : {tick_timer_, power_timer_, reopen_timer_}) {
+      if (t) node_->loop().cancel_timer(t);
+    }
+    if (fd_ >= 0) node_->loop().unwatch(fd_);
+  }
   if (own_fd_ && fd_ >= 0) close(fd_);
 }
 
