@@ -42,7 +42,7 @@ fi
 [ -n "$image" ] || { echo "fetch_vm: linux-image-amd64 names no kernel image package" >&2; exit 1; }
 echo "fetch_vm: downloading $image"
 rm -rf deb unpacked && mkdir -p deb unpacked modules
-(cd deb && apt-get download "$image")
+(cd deb && timeout 900 apt-get download "$image")
 dpkg-deb -x deb/*.deb unpacked
 cp unpacked/boot/vmlinuz-* vmlinuz
 for m in net/can/can.ko net/can/can-raw.ko drivers/net/can/dev/can-dev.ko drivers/net/can/vcan.ko; do
