@@ -24,12 +24,15 @@ void P2os::handle_sip(std::span<const uint8_t> payload) {
   last_sip_us_ = node_->loop().now_us();
   switch (odometry_.update(sip)) {
     case Odometry::Update::JumpRejected:
-      // Rare and worth knowing: the checksum let a corrupted SIP through,
-      // or the robot's counters were reset behind our back.
+      // Rare and worth knowing: the checksum let a corrupted SIP through.
       if (++jumps_rejected_ <= 5 || jumps_rejected_ % 100 == 0) {
         log_warn("%s: odometry jump of over %.0f mm in one SIP ignored (%u so far)", name_.c_str(),
                  Odometry::kMaxJumpMm, jumps_rejected_);
       }
+      break;
+    case Odometry::Update::JumpAccepted:
+      log_warn("%s: the robot's odometry counters jumped and stayed; carrying on from their new values",
+               name_.c_str());
       break;
     case Odometry::Update::ResetIgnored:
       log_warn("%s: the robot did not reset its odometry counters (SETO); reset on the driver side only",

@@ -61,6 +61,7 @@ Odometry::Update Odometry::update(const Sip& sip) {
     // of the robot's counters changes.
     Pose before = pose();
     have_reference_ = true;
+    jumps_in_row_ = 0;
     last_x_ = sip.x;
     last_y_ = sip.y;
     robot_a_ = heading;
@@ -96,10 +97,17 @@ Odometry::Update Odometry::update(const Sip& sip) {
   }
   int dx = wrap_delta(last_x_, sip.x, kPositionModulus);
   int dy = wrap_delta(last_y_, sip.y, kPositionModulus);
+  double dx_mm = dx * params_->dist_conv, dy_mm = dy * params_->dist_conv;
+  if (std::fabs(dx_mm) > kMaxJumpMm || std::fabs(dy_mm) > kMaxJumpMm) {
+    if (++jumps_in_row_ < kJumpsToRebase) return Update::JumpRejected;
+    jumps_in_row_ = 0;
+    last_x_ = sip.x;
+    last_y_ = sip.y;
+    return Update::JumpAccepted;
+  }
+  jumps_in_row_ = 0;
   last_x_ = sip.x;
   last_y_ = sip.y;
-  double dx_mm = dx * params_->dist_conv, dy_mm = dy * params_->dist_conv;
-  if (std::fabs(dx_mm) > kMaxJumpMm || std::fabs(dy_mm) > kMaxJumpMm) return Update::JumpRejected;
   robot_x_mm_ += dx_mm;
   robot_y_mm_ += dy_mm;
   return Update::Moved;

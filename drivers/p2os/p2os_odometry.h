@@ -2,9 +2,13 @@
 // x and y as 15-bit counters that wrap, and a heading counter; this turns
 // them into an unbounded pose in metres and radians:
 //  - position: wrap-aware deltas of the counters (the shorter way round the
-//    15-bit circle) times DistConvFactor, accumulated; a delta over 100 mm
-//    in one SIP cannot be motion (2.2 m/s moves 0.22 m between SIPs only at
-//    full speed across two lost SIPs) and is rejected, as Player did;
+//    15-bit circle) times DistConvFactor, accumulated. A delta over 100 mm
+//    in one SIP is not motion at any speed the driver commands: it is a
+//    corrupted SIP whose checksum still matched (two bit flips can cancel
+//    in P2OS's 16-bit sum) and is rejected, the last good counters kept so
+//    the next good SIP loses nothing. Counters that stay far away for
+//    kJumpsToRebase SIPs were reset behind our back: they become the
+//    reference, without motion;
 //  - heading: the counter times AngleConvFactor.
 // Clients may move the frame (SetOdometry) and reset it (ResetOdometry: the
 // driver also sends SETO, and the robot's counters restart near zero).
@@ -31,11 +35,14 @@ class Odometry {
   static constexpr double kMaxJumpMm = 100.0;
   /// SIPs to wait for the robot to act on SETO before giving up.
   static constexpr int kResetWaitSips = 10;
+  /// Jumps in a row after which the counters are taken as the reference.
+  static constexpr int kJumpsToRebase = 3;
 
   enum class Update : uint8_t {
     First,         // first SIP since restart(): counters remembered, no motion
     Moved,         // integrated
     JumpRejected,  // a position jump over kMaxJumpMm was not integrated
+    JumpAccepted,  // the counters jumped kJumpsToRebase times: a new reference
     Rebased,       // the robot's counters restarted after SETO
     ResetIgnored,  // the robot never showed its counters restarting
   };
@@ -67,6 +74,7 @@ class Odometry {
   double robot_a_ = 0;
   Pose frame_;  // reported = frame_ composed with the robot's pose
   int reset_wait_ = 0;
+  int jumps_in_row_ = 0;
 };
 
 }  // namespace troupe::drivers::p2os

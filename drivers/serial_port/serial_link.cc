@@ -1,7 +1,6 @@
 #include "drivers/serial_port/serial_link.h"
 
 #include <fcntl.h>
-#include <libserial/SerialPort.h>
 #include <sys/epoll.h>
 #include <termios.h>
 #include <unistd.h>
@@ -20,104 +19,20 @@ namespace {
 constexpr int kReadsPerEvent = 4;
 constexpr size_t kReadChunk = 512;
 
-bool to_libserial(uint32_t baud, LibSerial::BaudRate& out) {
-  using LibSerial::BaudRate;
-  switch (baud) {
-    case 9600:
-      out = BaudRate::BAUD_9600;
-      return true;
-    case 19200:
-      out = BaudRate::BAUD_19200;
-      return true;
-    case 38400:
-      out = BaudRate::BAUD_38400;
-      return true;
-    case 57600:
-      out = BaudRate::BAUD_57600;
-      return true;
-    case 115200:
-      out = BaudRate::BAUD_115200;
-      return true;
-    case 230400:
-      out = BaudRate::BAUD_230400;
-      return true;
-    case 500000:
-      out = BaudRate::BAUD_500000;
-      return true;
-    default:
-      return false;
-  }
-}
-
-std::string baud_error(uint32_t baud) {
-  return "unsupported baud " + std::to_string(baud) +
-         " (use 9600, 19200, 38400, 57600, 115200, 230400 or 500000)";
-}
-
 }  // namespace
-
-bool is_supported_baud(uint32_t baud) {
-  LibSerial::BaudRate unused{};
-  return to_libserial(baud, unused);
-}
-
-SerialLink::SerialLink(Listener& listener) : listener_(listener) {}
-
-SerialLink::~SerialLink() {
-  close();
-}
 
 bool SerialLink::open(const std::string& path, uint32_t baud, std::string& error) {
   close();
-  LibSerial::BaudRate rate{};
   if (loop_ == nullptr) {
     error = path + ": no event loop attached";
     return false;
   }
-  if (!to_libserial(baud, rate)) {
-    error = path + ": " + baud_error(baud);
+  if (!device_.open(path, baud, error)) return false;
+  if (!loop_->watch(device_.fd(), EPOLLIN, this)) {
+    error = path + ": cannot watch the port";
+    device_.close();
     return false;
   }
-  // libserial reports a missing device as "Bad file descriptor"; ask the
-  // file system first so the message says what is wrong.
-  if (::access(path.c_str(), R_OK | W_OK) != 0) {
-    error = path + ": " + strerror(errno);
-    return false;
-  }
-  auto port = std::make_unique<LibSerial::SerialPort>();
-  try {
-    port->Open(path);
-    port->SetBaudRate(rate);
-    port->SetCharacterSize(LibSerial::CharacterSize::CHAR_SIZE_8);
-    port->SetParity(LibSerial::Parity::PARITY_NONE);
-    port->SetStopBits(LibSerial::StopBits::STOP_BITS_1);
-    port->SetFlowControl(LibSerial::FlowControl::FLOW_CONTROL_NONE);
-    port->SetVMin(0);
-    port->SetVTime(0);
-    port->FlushIOBuffers();
-  } catch (const std::exception& e) {
-    error = path + ": " + e.what();
-    if (port->IsOpen()) {
-      try {
-        port->Close();
-      } catch (const std::exception&) {
-        (void)port.release();  // see close(): its destructor would throw
-      }
-    }
-    return false;
-  }
-  int fd = port->GetFileDescriptor();
-  // The loop must never block on this descriptor, whatever libserial chose.
-  int flags = fcntl(fd, F_GETFL, 0);
-  if (flags < 0 || fcntl(fd, F_SETFL, flags | O_NONBLOCK) != 0 || !loop_->watch(fd, EPOLLIN, this)) {
-    error = path + ": cannot make the port non-blocking or watch it";
-    port_ = std::move(port);
-    fd_ = fd;
-    close();
-    return false;
-  }
-  port_ = std::move(port);
-  fd_ = fd;
   ++session_;
   path_ = path;
   baud_ = baud;
@@ -127,22 +42,7 @@ bool SerialLink::open(const std::string& path, uint32_t baud, std::string& error
 }
 
 bool SerialLink::set_baud(uint32_t baud, std::string& error) {
-  LibSerial::BaudRate rate{};
-  if (!is_open()) {
-    error = "the port is closed";
-    return false;
-  }
-  if (!to_libserial(baud, rate)) {
-    error = path_ + ": " + baud_error(baud);
-    return false;
-  }
-  try {
-    port_->SetBaudRate(rate);
-    port_->FlushOutputBuffer();
-  } catch (const std::exception& e) {
-    error = path_ + ": cannot set " + std::to_string(baud) + " baud: " + e.what();
-    return false;
-  }
+  if (!device_.set_baud(baud, error)) return false;
   baud_ = baud;
   queue_head_ = queue_size_ = 0;
   want_write(false);
@@ -150,7 +50,7 @@ bool SerialLink::set_baud(uint32_t baud, std::string& error) {
 }
 
 void SerialLink::discard_input() {
-  if (is_open()) tcflush(fd_, TCIFLUSH);
+  device_.discard_input();
 }
 
 bool SerialLink::send(std::span<const uint8_t> bytes) {
@@ -169,7 +69,7 @@ bool SerialLink::send(std::span<const uint8_t> bytes) {
 
 void SerialLink::flush() {
   while (queue_head_ < queue_size_) {
-    ssize_t n = ::write(fd_, queue_ + queue_head_, queue_size_ - queue_head_);
+    ssize_t n = ::write(device_.fd(), queue_ + queue_head_, queue_size_ - queue_head_);
     if (n > 0) {
       queue_head_ += size_t(n);
       continue;
@@ -185,11 +85,11 @@ void SerialLink::flush() {
 void SerialLink::want_write(bool on) {
   if (!is_open() || writing_ == on) return;
   writing_ = on;
-  loop_->modify(fd_, EPOLLIN | (on ? uint32_t(EPOLLOUT) : 0u));
+  loop_->modify(device_.fd(), EPOLLIN | (on ? uint32_t(EPOLLOUT) : 0u));
 }
 
 void SerialLink::on_fd(int fd, uint32_t events) {
-  if (fd != fd_) return;
+  if (fd != device_.fd()) return;
   if (events & EPOLLOUT) {
     flush();
     if (!is_open()) return;
@@ -234,41 +134,13 @@ void SerialLink::close() {
     loop_->cancel_timer(lost_timer_);
     lost_timer_ = 0;
   }
-  if (fd_ < 0) return;
-  loop_->unwatch(fd_);
-  int fd = fd_;
-  fd_ = -1;
+  if (!is_open()) return;
+  loop_->unwatch(device_.fd());
   baud_ = 0;
   writing_ = false;
   queue_head_ = queue_size_ = 0;
-  try {
-    port_->Close();
-    port_.reset();
-    return;
-  } catch (const std::exception&) {
-  }
-  // libserial restores the settings it found before closing, and a vanished
-  // device refuses that (EIO), which leaves the descriptor open and makes
-  // the object's destructor throw. A fresh terminal put in the descriptor's
-  // place takes the settings, so the close can finish.
-  int spare = posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (spare >= 0 && dup2(spare, fd) == fd) {
-    ::close(spare);
-    try {
-      port_->Close();
-      port_.reset();
-      return;
-    } catch (const std::exception&) {
-    }
-  } else if (spare >= 0) {
-    ::close(spare);
-  }
-  // Last resort: close the descriptor ourselves and never destroy the
-  // object (its destructor would throw from noexcept). A few hundred bytes
-  // per vanished device.
-  ::close(fd);
-  (void)port_.release();
-  log_warn("%s: closed by hand after libserial refused to close it", path_.c_str());
+  device_.close();
+  if (!device_.close_note().empty()) log_warn("%s: %s", path_.c_str(), device_.close_note().c_str());
 }
 
 }  // namespace troupe::serial

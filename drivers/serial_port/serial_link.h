@@ -1,7 +1,8 @@
 // A serial line driven from the node's event loop. libserial opens and
-// configures the port (raw 8N1, no flow control, the baud asked for); its
-// descriptor is then watched by the EventLoop, read whenever bytes are there
-// and written through a bounded queue. Nothing here ever blocks.
+// configures the port (raw 8N1, no flow control, the baud asked for; see
+// serial_device.h); its descriptor is then watched by the EventLoop, read
+// whenever bytes are there and written through a bounded queue. Nothing here
+// ever blocks.
 //
 // A port that fails (a USB adapter pulled out, an emulator's pty closed) is
 // closed and reported to the listener from the loop, never from inside a
@@ -10,21 +11,13 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <span>
 #include <string>
 
+#include "drivers/serial_port/serial_device.h"
 #include "runtime/event_loop.h"
 
-namespace LibSerial {
-class SerialPort;
-}
-
 namespace troupe::serial {
-
-/// True for the baud rates the serial drivers use: 9600, 19200, 38400,
-/// 57600, 115200, 230400, 500000 (bit/s).
-bool is_supported_baud(uint32_t baud);
 
 class SerialLink final : public FdHandler, public TimerHandler {
  public:
@@ -44,8 +37,8 @@ class SerialLink final : public FdHandler, public TimerHandler {
   /// FIFO drops. Control packets are tens of bytes.
   static constexpr size_t kQueueBytes = 2048;
 
-  explicit SerialLink(Listener& listener);
-  ~SerialLink();
+  explicit SerialLink(Listener& listener) : listener_(listener) {}
+  ~SerialLink() { close(); }
   SerialLink(const SerialLink&) = delete;
   SerialLink& operator=(const SerialLink&) = delete;
 
@@ -67,7 +60,7 @@ class SerialLink final : public FdHandler, public TimerHandler {
   /// Closes the port; safe when the device has vanished, and when closed.
   void close();
 
-  bool is_open() const { return fd_ >= 0; }
+  bool is_open() const { return device_.fd() >= 0; }
   /// Line speed, bit/s (0 when closed).
   uint32_t baud() const { return baud_; }
   const std::string& path() const { return path_; }
@@ -83,9 +76,8 @@ class SerialLink final : public FdHandler, public TimerHandler {
 
   EventLoop* loop_ = nullptr;
   Listener& listener_;
-  std::unique_ptr<LibSerial::SerialPort> port_;
+  SerialDevice device_;
   std::string path_;
-  int fd_ = -1;
   uint32_t session_ = 0;  // counts opens: a descriptor number may be reused
   uint32_t baud_ = 0;
   bool writing_ = false;

@@ -57,14 +57,27 @@ TEST(P2osOdometry, AppliesTheModelsDistanceFactor) {
   EXPECT_NEAR(odo.pose().y, 0.0970, 1e-9);
 }
 
-TEST(P2osOdometry, RejectsJumpsOverOneHundredMillimetres) {
+TEST(P2osOdometry, ACorruptedSipCostsNothing) {
   Odometry odo(*find_robot("p3dx-sh"));
   odo.update(sip_at(1000, 1000));
   odo.update(sip_at(1090, 1000));
-  EXPECT_EQ(odo.update(sip_at(5000, 1000)), Odometry::Update::JumpRejected);
+  // x with bit 12 flipped, yet a matching checksum.
+  EXPECT_EQ(odo.update(sip_at(1100 ^ 0x1000, 1000)), Odometry::Update::JumpRejected);
   EXPECT_NEAR(odo.pose().x, 0.090, 1e-9);
-  // Motion resumes from the new counter value.
-  EXPECT_EQ(odo.update(sip_at(5010, 1000)), Odometry::Update::Moved);
+  // The next good SIP counts from the last good one: nothing is lost.
+  EXPECT_EQ(odo.update(sip_at(1110, 1000)), Odometry::Update::Moved);
+  EXPECT_NEAR(odo.pose().x, 0.110, 1e-9);
+}
+
+TEST(P2osOdometry, CountersResetBehindOurBackBecomeTheReference) {
+  Odometry odo(*find_robot("p3dx-sh"));
+  odo.update(sip_at(1000, 1000));
+  odo.update(sip_at(1090, 1000));
+  EXPECT_EQ(odo.update(sip_at(5000, 0)), Odometry::Update::JumpRejected);
+  EXPECT_EQ(odo.update(sip_at(5010, 0)), Odometry::Update::JumpRejected);
+  EXPECT_EQ(odo.update(sip_at(5020, 0)), Odometry::Update::JumpAccepted);
+  EXPECT_NEAR(odo.pose().x, 0.090, 1e-9);
+  EXPECT_EQ(odo.update(sip_at(5030, 0)), Odometry::Update::Moved);
   EXPECT_NEAR(odo.pose().x, 0.100, 1e-9);
 }
 
@@ -79,8 +92,7 @@ TEST(P2osOdometry, HeadingComesFromTheCounter) {
 
 TEST(P2osOdometry, SetPoseMovesTheFrame) {
   Odometry odo(*find_robot("p3dx-sh"));
-  odo.update(sip_at(0, 0, 0));
-  odo.update(sip_at(500, 0, 0));
+  for (int x = 0; x <= 500; x += 50) odo.update(sip_at(x, 0, 0));
   odo.set_pose({10, 20, kPi / 2});
   EXPECT_NEAR(odo.pose().x, 10, 1e-9);
   EXPECT_NEAR(odo.pose().a, kPi / 2, 1e-9);
