@@ -93,6 +93,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (config.baud != 9600 && config.baud != 19200 && config.baud != 38400 && config.baud != 57600 &&
+      config.baud != 115200) {
+    fprintf(stderr, "troupe-emulate-p2os: --baud must be 9600, 19200, 38400, 57600 or 115200\n");
+    return 2;
+  }
   if (troupe::drivers::p2os::find_robot(config.model) == nullptr) {
     fprintf(stderr, "troupe-emulate-p2os: note: '%s' is no known model; reporting it with p3dx-sh units\n",
             config.model.c_str());
