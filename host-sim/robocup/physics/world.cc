@@ -271,11 +271,25 @@ void World::step() {
 }
 
 bool World::raycast(Vec2 origin, Vec2 dir, double max_range, double z, BodyId ignore, RayHit& hit) const {
+  return raycast(
+      origin, dir, max_range, z, [ignore](BodyId id, uint64_t) { return !(id == ignore); }, hit);
+}
+
+bool World::raycast(Vec2 origin, Vec2 dir, double max_range, double z, const RayFilter& accept,
+                    RayHit& hit) const {
   bool found = false;
   hit.distance = max_range;
   for (uint32_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
-    if (!b.alive || (ignore.index == i && ignore.generation == b.generation)) continue;
+    if (!b.alive) continue;
+    // Cheap rejection before the filter and the shapes: the ray's segment
+    // against the body's box.
+    const Vec2 end = origin + dir * hit.distance;
+    if (std::max(origin.x, end.x) < b.box.lo.x || std::min(origin.x, end.x) > b.box.hi.x ||
+        std::max(origin.y, end.y) < b.box.lo.y || std::min(origin.y, end.y) > b.box.hi.y) {
+      continue;
+    }
+    if (accept && !accept({i, b.generation}, b.user_data)) continue;
     for (size_t k = 0; k < b.placed.size(); ++k) {
       if (z < b.shapes[k].z_min || z > b.shapes[k].z_max) continue;
       RayShapeHit h;

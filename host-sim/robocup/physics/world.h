@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -158,6 +159,10 @@ class World {
   /// `max_range` m, among shapes whose height range holds `z` (m). The body
   /// `ignore` is skipped (the sensor's own robot).
   bool raycast(Vec2 origin, Vec2 dir, double max_range, double z, BodyId ignore, RayHit& hit) const;
+  /// Which bodies a ray may hit: true to consider the body.
+  using RayFilter = std::function<bool(BodyId body, uint64_t user_data)>;
+  /// The same, skipping every body `accept` refuses.
+  bool raycast(Vec2 origin, Vec2 dir, double max_range, double z, const RayFilter& accept, RayHit& hit) const;
 
   /// Handles of the live bodies, in creation order.
   std::vector<BodyId> bodies() const;
