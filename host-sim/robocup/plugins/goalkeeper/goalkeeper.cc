@@ -2,12 +2,17 @@
 // policies (keeper_policy.h) and clears a ball that reaches its kicker.
 //
 //   player goalkeeper policy=block line=0.35 reach=0.8 max_speed=2 drive=omni
-//                     random_period=1 pattern_period=4 switch_speed=1 clear=1
+//                     random_period=1 pattern_period=4 mix_period=2 clear=1
+//                     latency=0.1 noise=0
 //
 // policy: none | random | pattern | block | intercept | mixed.
+// latency: the keeper sees the ball as it was this long ago, s (a vision
+// pipeline's delay); noise: standard deviation of the seen ball position, m.
 // line: distance in front of the goal line, m; reach: how far off centre it
 // goes, m (default: half the goal less 0.2 m); drive: omni (holonomic base)
 // or diff (a differential base standing sideways, driving along the line).
+#include <deque>
+
 #include "host-sim/robocup/plugins/common/control.h"
 #include "host-sim/robocup/plugins/goalkeeper/keeper_policy.h"
 
@@ -27,7 +32,9 @@ class Goalkeeper final : public PlayerPlugin {
     omni_ = o.choice("drive", "omni", {"omni", "diff"}) == "omni";
     settings_.random_period_s = o.number("random_period", settings_.random_period_s, 0.01, 1000);
     settings_.pattern_period_s = o.number("pattern_period", settings_.pattern_period_s, 0.1, 1000);
-    settings_.switch_speed = o.number("switch_speed", settings_.switch_speed, 0, 100);
+    settings_.mix_period_s = o.number("mix_period", settings_.mix_period_s, 0.01, 1000);
+    latency_s_ = o.number("latency", 0.1, 0, 5);
+    noise_ = o.number("noise", 0, 0, 5);
     clear_ = o.flag("clear", true);
     return o.finish(error);
   }
@@ -43,8 +50,9 @@ class Goalkeeper final : public PlayerPlugin {
   void act(WorldControl& world, const PlayerContext& c, const PlayerInput& in, PlayerOutput& out) override {
     const RobotInfo me = world.robot(c.index);
     const BallInfo ball = world.ball();
-    const Vec2 target = keeper_target(policy_, geometry_, settings_, me.pose.position(), ball.position,
-                                      ball.velocity, world.time_s(), memory_, *c.rng);
+    const Seen seen = perceive(world, ball, *c.rng);
+    const Vec2 target = keeper_target(policy_, geometry_, settings_, me.pose.position(), seen.position,
+                                      seen.velocity, world.time_s(), memory_, *c.rng);
     if (policy_ == KeeperPolicy::None) {
       out.command = {};
     } else if (omni_) {
@@ -69,7 +77,26 @@ class Goalkeeper final : public PlayerPlugin {
   }
 
  private:
+  struct Seen {
+    double time_s;
+    Vec2 position, velocity;
+  };
+  // The ball as the keeper's vision reports it: `latency` old, noisy.
+  Seen perceive(const WorldView& world, const BallInfo& ball, Rng& rng) {
+    const double now = world.time_s();
+    Vec2 noise;
+    if (noise_ > 0) {
+      std::normal_distribution<double> n(0, noise_);
+      noise = {n(rng), n(rng)};
+    }
+    seen_.push_back({now, ball.position + noise, ball.velocity});
+    while (seen_.size() > 1 && seen_[1].time_s <= now - latency_s_ + 1e-9) seen_.pop_front();
+    return seen_.front();
+  }
+
   KeeperPolicy policy_ = KeeperPolicy::Block;
+  std::deque<Seen> seen_;
+  double latency_s_ = 0.1, noise_ = 0;
   KeeperGeometry geometry_;
   KeeperSettings settings_;
   KeeperMemory memory_;

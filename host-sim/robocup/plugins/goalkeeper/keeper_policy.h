@@ -45,14 +45,17 @@ struct KeeperSettings {
   /// random: a new spot every period s; pattern: one sweep there and back
   /// takes period s.
   double random_period_s = 1.0, pattern_period_s = 4.0;
-  /// mixed: intercept when the ball comes at the goal faster than this,
-  /// m/s, otherwise block.
-  double switch_speed = 1.0;
+  /// mixed: a new policy (block, intercept, pattern or random, equally
+  /// likely) every period s: a mixed strategy a striker cannot learn to
+  /// exploit.
+  double mix_period_s = 2.0;
 };
 
 struct KeeperMemory {
   double next_pick_s = -1;
   double random_y = 0;
+  double next_mix_s = -1;
+  KeeperPolicy mixed = KeeperPolicy::Block;
   /// What the last decision used (for logs and tests).
   KeeperPolicy acting = KeeperPolicy::None;
 };
@@ -108,13 +111,14 @@ inline Vec2 keeper_target(KeeperPolicy p, const KeeperGeometry& g, const KeeperS
       return {g.line_x(), block_y(g, ball)};
     }
     case KeeperPolicy::Mixed: {
-      double y;
-      if (-g.forward * ball_v.x > s.switch_speed && crossing_y(g, ball, ball_v, y)) {
-        m.acting = KeeperPolicy::Intercept;
-        return {g.line_x(), y};
+      if (time_s >= m.next_mix_s) {
+        constexpr KeeperPolicy kChoices[4] = {KeeperPolicy::Block, KeeperPolicy::Intercept,
+                                              KeeperPolicy::Pattern, KeeperPolicy::Random};
+        m.mixed = kChoices[std::uniform_int_distribution<int>(0, 3)(rng)];
+        m.next_mix_s = time_s + s.mix_period_s;
       }
-      m.acting = KeeperPolicy::Block;
-      return {g.line_x(), block_y(g, ball)};
+      const Vec2 target = keeper_target(m.mixed, g, s, me, ball, ball_v, time_s, m, rng);
+      return target;
     }
   }
   return me;

@@ -32,6 +32,8 @@ void MotionModel::features(const Twist& v, const MotionCommand& c, double* phi) 
   phi[n++] = 1;
   for (int k = 0; k < 3; ++k) phi[n++] = axis(v, k);
   for (int k = 0; k < 3; ++k) phi[n++] = axis(c, k);
+  phi[n++] = v.vx * v.w;
+  phi[n++] = v.vy * v.w;
   for (int k = 0; k < 3; ++k) {
     for (double s : kErrorScales) phi[n++] = ramp(axis(c, k) - axis(v, k), s);
   }

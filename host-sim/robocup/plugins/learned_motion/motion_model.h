@@ -1,9 +1,10 @@
 // A motion model learned from a logged run: from (velocity, command) to
 // the velocity one cycle later. Per axis it is a linear combination of a
-// fixed basis: the velocity, the command, and clipped ramps of the
-// velocity error and of the command at several scales. Clipped ramps add up
-// to any monotone saturating curve, which is what acceleration and speed
-// limits look like, so the model stays a small least-squares fit.
+// fixed basis: the velocity, the command, the velocity turned by the spin
+// (a robot-frame velocity changes as the robot turns), and clipped ramps of
+// the velocity error and of the command at several scales. Clipped ramps
+// add up to any monotone saturating curve, which is what acceleration and
+// speed limits look like, so the model stays a small least-squares fit.
 //
 // Log format (one line per cycle, robot frame, SI units; '#' comments):
 //   time_s vx vy w cmd_vx cmd_vy cmd_w
@@ -29,7 +30,7 @@ struct MotionSample {
 
 class MotionModel {
  public:
-  static constexpr int kFeatures = 43;
+  static constexpr int kFeatures = 45;
 
   /// Least-squares fit (slightly regularised) on `samples` taken every
   /// `cycle_s` seconds. False with `error` when there are too few.
