@@ -105,3 +105,28 @@ TEST(Console, StartsAndStopsPlayersAndReports) {
 
 }  // namespace
 }  // namespace troupe::robocup
+
+namespace troupe::robocup {
+namespace {
+
+TEST(Match, TheExampleMatchRepeatsExactlyForItsSeed) {
+  auto run = [](uint64_t seed) {
+    WorldSpec spec;
+    std::string error;
+    EXPECT_TRUE(load_world_file(TROUPE_SOURCE_DIR "/examples/robocup/match.world", spec, error)) << error;
+    spec.seed = seed;
+    auto sim = Simulation::create(std::move(spec), PluginLoader({test::kPluginDir}), error);
+    EXPECT_TRUE(sim) << error;
+    EXPECT_TRUE(sim->problems().empty());
+    sim->run_for(5);
+    const SensorReading& odometry = sim->readings(1)[0];
+    return std::make_pair(sim->physics().state_hash(), odometry.odometry);
+  };
+  const auto a = run(2001), b = run(2001), c = run(7);
+  EXPECT_EQ(a.first, b.first) << "same seed, same match";
+  EXPECT_EQ(a.second, b.second);
+  EXPECT_NE(a.second, c.second) << "another seed draws other sensor noise";
+}
+
+}  // namespace
+}  // namespace troupe::robocup

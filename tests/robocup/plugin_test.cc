@@ -137,6 +137,8 @@ TEST(Simulation, PlayersStartAndStopAtRunTime) {
   EXPECT_EQ(sim->player_of(0), "goalkeeper");
   sim->run_for(1.0);
   EXPECT_GT(std::fabs(sim->robot(0).pose.y), 0.1) << "the keeper started its pattern";
+  EXPECT_FALSE(sim->start_player("k", "goalkeeper", bad, error));
+  EXPECT_EQ(sim->player_of(0), "goalkeeper") << "a failed start leaves the running player alone";
   sim->stop_player("k");
   EXPECT_EQ(sim->player_of(0), "");
   const Pose2 stopped_at = sim->robot(0).pose;

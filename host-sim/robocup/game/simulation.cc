@@ -143,7 +143,6 @@ bool Simulation::start_player(std::string_view name, const PluginSpec& p, std::s
     return false;
   }
   Robot& r = robots_[size_t(index)];
-  stop_player(name);
   const std::string where = (p.where.empty() ? "" : p.where + ": ") + "robot " + r.name + ": ";
   PluginInstance<PlayerPlugin> player = loader_.player(p.plugin, error);
   if (!player) {
@@ -155,6 +154,8 @@ bool Simulation::start_player(std::string_view name, const PluginSpec& p, std::s
     error = where + "player plugin '" + p.plugin + "': " + error;
     return false;
   }
+  // Only a player that configured replaces the one running.
+  stop_player(name);
   r.player = std::move(player);
   r.player_name = p.plugin;
   r.player_rng = rng_for(r.name, "player/" + p.plugin);

@@ -59,8 +59,8 @@ class Simulation final : public WorldControl {
 
   // ---- Robots and their plugins ----------------------------------------------
 
-  /// Starts `player` on `robot` (stopping the one running there). False
-  /// with an error naming the plugin; the robot then has no player.
+  /// Starts `player` on `robot`, replacing the one running there. False
+  /// with an error naming the plugin; the running player then goes on.
   bool start_player(std::string_view robot, const PluginSpec& player, std::string& error);
   /// The same from a plugin name and "key=value" options.
   bool start_player(std::string_view robot, std::string_view plugin, const Options& options,

@@ -4,10 +4,12 @@
 // goal, the others hold their home spots facing the ball.
 //
 //   player field_player home_x=-1.5 home_y=1 drive=diff max_speed=1.5 charge_speed=1.2 shoot_range=6
+//                       front=0.25
 //
 // home_x, home_y: the home spot in the team's frame (x towards the
 // opponent's goal, from the centre spot), m; shoot_range: kick only this
-// close to the goal, m (farther, it dribbles).
+// close to the goal, m (farther, it dribbles); front: the kicker plate's
+// distance ahead of the robot's origin, m (default: 0.8 times its reach).
 #include <cstdlib>
 #include <map>
 
@@ -21,6 +23,7 @@ class FieldPlayer final : public PlayerPlugin {
   bool configure(Options& o, std::string& error) override {
     home_ = {o.number("home_x", -1.5, -20, 20), o.number("home_y", 0, -20, 20)};
     omni_ = o.choice("drive", "diff", {"omni", "diff"}) == "omni";
+    front_ = o.number("front", -1, 0, 5);
     limits_.max_speed = o.number("max_speed", 1.5, 0.05, 10);
     shot_.charge_speed = o.number("charge_speed", 1.2, 0.05, 10);
     shoot_range_ = o.number("shoot_range", 6, 0, 100);
@@ -31,7 +34,9 @@ class FieldPlayer final : public PlayerPlugin {
     forward_ = c.team == Team::Blue ? 1 : -1;
     goal_ = {forward_ * world.field().length / 2, 0};
     shot_.ball_radius = world.ball().radius;
-    shot_.front = world.robot(c.index).radius * 0.8;
+    // The kicker plate's front, ahead of the robot's origin: given, or
+    // guessed from the robot's size.
+    shot_.front = front_ >= 0 ? front_ : world.robot(c.index).radius * 0.8;
   }
 
   void act(WorldControl& world, const PlayerContext& c, const PlayerInput& in, PlayerOutput& out) override {
@@ -61,6 +66,7 @@ class FieldPlayer final : public PlayerPlugin {
  private:
   Vec2 home_, goal_;
   double forward_ = 1, shoot_range_ = 6;
+  double front_ = -1;
   bool omni_ = false;
   DriveLimits limits_;
   ShotSettings shot_;

@@ -2,10 +2,11 @@
 // aim point, drives onto the ball and kicks once; then it stands still.
 // The goalkeeper benchmark starts it for every shot.
 //
-//   player striker aim_y=0.5 goal=opponent charge_speed=1 max_speed=1.5 drive=diff
+//   player striker aim_y=0.5 goal=opponent charge_speed=1 max_speed=1.5 drive=diff front=0.25
 //
 // aim_y: where on the goal line it aims, m from the goal's centre;
-// goal: opponent | blue | yellow.
+// goal: opponent | blue | yellow; front: the kicker plate's distance ahead
+// of the robot's origin, m (default: 0.8 times the robot's reach).
 #include "host-sim/robocup/plugins/common/control.h"
 
 namespace troupe::robocup::plugins {
@@ -19,6 +20,7 @@ class Striker final : public PlayerPlugin {
     shot_.charge_speed = o.number("charge_speed", 1.0, 0.05, 10);
     limits_.max_speed = o.number("max_speed", 1.5, 0.05, 10);
     omni_ = o.choice("drive", "diff", {"omni", "diff"}) == "omni";
+    front_ = o.number("front", -1, 0, 5);
     return o.finish(error);
   }
 
@@ -27,7 +29,9 @@ class Striker final : public PlayerPlugin {
     aim_ = {(at_yellow ? 1 : -1) * world.field().length / 2, aim_y_};
     shot_.ball_radius = world.ball().radius;
     // The kicker plate is the robot's farthest point ahead.
-    shot_.front = world.robot(c.index).radius * 0.8;
+    // The kicker plate's front, ahead of the robot's origin: given, or
+    // guessed from the robot's size.
+    shot_.front = front_ >= 0 ? front_ : world.robot(c.index).radius * 0.8;
     kicked_ = false;
   }
 
@@ -49,6 +53,7 @@ class Striker final : public PlayerPlugin {
   Vec2 aim_;
   ShotSettings shot_;
   DriveLimits limits_;
+  double front_ = -1;
   bool omni_ = false, kicked_ = false;
 };
 
