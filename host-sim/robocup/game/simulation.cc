@@ -158,7 +158,7 @@ bool Simulation::start_player(std::string_view name, const PluginSpec& p, std::s
   stop_player(name);
   r.player = std::move(player);
   r.player_name = p.plugin;
-  r.player_rng = rng_for(r.name, "player/" + p.plugin);
+  r.player_rng = rng_for(r.name, "player/" + p.plugin + "/" + std::to_string(r.player_starts++));
   r.command = {};
   r.player->start(*this, {r.name, index, r.team, &r.player_rng});
   return true;

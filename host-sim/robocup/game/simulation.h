@@ -125,6 +125,9 @@ class Simulation final : public WorldControl {
     PluginInstance<PlayerPlugin> player;
     std::string player_name;
     Rng player_rng;
+    /// Players started on this robot so far: each start draws its own
+    /// random numbers (a restarted random keeper does not repeat itself).
+    int player_starts = 0;
     MotionCommand command;
     bool kick_requested = false;
     int kicker_state = 0;
