@@ -6,7 +6,7 @@
 #include <sys/stat.h>
 
 #include "tests/cross/qemu_node.h"
-#include "tests/cross/test_client.h"
+#include "wire/client/client.h"
 
 namespace troupe::cross {
 namespace {
@@ -80,12 +80,13 @@ TEST_P(BundleTest, StartsFromItsUnpackedFolder) {
   QemuNode node;
   std::string error;
   ASSERT_TRUE(node.start(b, dir_ + binary, dir_ + config, error)) << error;
-  TestClient client;
-  ASSERT_TRUE(client.connect(node.port(), error)) << error;
-  EXPECT_EQ(client.node_name(), b.board);
-  std::vector<wire::Address> devices;
-  std::vector<std::string> drivers;
-  ASSERT_TRUE(client.list_devices(devices, drivers)) << client.error();
+  client::Client::Options options;
+  options.reconnect = false;
+  client::Client c("127.0.0.1", node.port(), options);
+  ASSERT_TRUE(c.connect()) << c.error();
+  EXPECT_EQ(c.node_name(), b.board);
+  std::vector<client::DeviceEntry> devices;
+  ASSERT_TRUE(c.device_list(devices)) << c.error();
   EXPECT_EQ(devices.size(), p.devices);
   EXPECT_EQ(node.stop(), 0) << node.log();
 }

@@ -9,13 +9,12 @@
 #include <cstdlib>
 
 #include "tests/cross/qemu_node.h"
-#include "tests/cross/test_client.h"
+#include "wire/client/client.h"
 
 namespace troupe::cross {
 namespace {
 
 const wire::Address kBase(0, uint16_t(wire::Interface::Position2d), 0);
-constexpr int kBatch = 50;  // requests in flight at once
 constexpr long kMessages = 100000;
 
 struct HeapReport {
@@ -43,33 +42,20 @@ long rss_kib(pid_t pid) {
 
 class SteadyState : public ::testing::TestWithParam<const char*> {
  protected:
-  // `iterations` rounds of: a velocity command and a Pull, answered by the
+  // `iterations` rounds of: a velocity command, then a Pull answered by the
   // newest data and an Ack. Returns the messages exchanged (sent and
   // received), or -1 when the node stopped answering.
-  long serve(int iterations) {
-    long messages = 0;
-    data_seen_ = 0;
-    for (int done = 0; done < iterations; done += kBatch) {
-      uint32_t last_pull = 0;
-      for (int i = 0; i < kBatch; ++i) {
-        float v = (done + i) % 2 ? 0.1f : -0.1f;
-        if (!client_.send_vel(kBase, v, 0.0f)) return -1;
-        last_pull = client_.next_seq();
-        client_.writer().start();
-        if (!client_.send(wire::make_header(kBase, wire::Kind::Pull, 0, last_pull, 0))) return -1;
-        messages += 2;
-      }
-      for (;;) {
-        const wire::Message* msg = client_.next();
-        if (msg == nullptr) return -1;
-        ++messages;
-        if (msg->header()->kind() == wire::Kind::Data) ++data_seen_;
-        if (msg->header()->kind() == wire::Kind::Nack || msg->header()->kind() == wire::Kind::Error)
-          return -1;
-        if (msg->header()->kind() == wire::Kind::Ack && msg->header()->seq() == last_pull) break;
-      }
+  long serve(client::Client& c, int iterations) {
+    long before = data_seen_;
+    for (int i = 0; i < iterations; ++i) {
+      auto& b = c.begin();
+      wire::Pose2d vel(i % 2 ? 0.1f : -0.1f, 0, 0);
+      auto body = wire::CreatePosition2dVel(b, &vel);
+      if (!c.command(kBase, uint8_t(wire::Position2dCmdSub::Vel), wire::Body::Position2dVel, body.Union()))
+        return -1;
+      if (!c.pull(kBase)) return -1;
     }
-    return messages;
+    return 3L * iterations + (data_seen_ - before);  // command, pull, ack; data
   }
 
   HeapReport report(int n) {
@@ -80,7 +66,6 @@ class SteadyState : public ::testing::TestWithParam<const char*> {
 
   CrossBuild build_;
   QemuNode node_;
-  TestClient client_;
   long data_seen_ = 0;
 };
 
@@ -93,24 +78,32 @@ TEST_P(SteadyState, ServesHundredThousandMessagesWithoutHeapGrowth) {
   ASSERT_TRUE(node_.start(build_, build_.node, build_.path("configs/ppc-node.bin"), error,
                           build_.path("tests/cross/target/libtroupe_alloc_count.so")))
       << error;
-  ASSERT_TRUE(client_.connect(node_.port(), error)) << error;
-  ASSERT_TRUE(client_.open(kBase, wire::Access::All, wire::Delivery::Pull)) << client_.error();
+  client::Client::Options options;
+  options.reconnect = false;
+  client::Client c("127.0.0.1", node_.port(), options);
+  ASSERT_TRUE(c.connect()) << c.error();
+  c.add_data_handler([this](const wire::Message&) { ++data_seen_; });
+  ASSERT_TRUE(c.open(kBase, wire::Access::All, wire::Delivery::Pull)) << c.error();
 
   // Warm up: buffers take the sizes this traffic needs. Pulls are answered
   // with data only once the driver published (its first publication sizes
   // the node's message builder and the device's data slot), which may be
   // after many round trips: warm up until data came back.
-  ASSERT_GT(serve(1000), 0) << client_.error();
+  ASSERT_GT(serve(c, 1000), 0) << c.error();
   for (int i = 0; i < 1000 && data_seen_ == 0; ++i) {
-    ASSERT_GT(serve(kBatch), 0) << client_.error();
+    ASSERT_GT(serve(c, 10), 0) << c.error();
   }
   ASSERT_GT(data_seen_, 0) << "the kinematic driver never published";
   HeapReport before = report(0);
   ASSERT_GE(before.allocations, 0) << "no report from the preloaded counter:\n" << node_.log();
   long rss_before = rss_kib(node_.pid());
 
-  long messages = serve(int(kMessages / 4));
-  ASSERT_GE(messages, kMessages) << client_.error();
+  long messages = 0;
+  while (messages < kMessages) {
+    long n = serve(c, 1000);
+    ASSERT_GT(n, 0) << c.error();
+    messages += n;
+  }
   HeapReport after = report(1);
   ASSERT_GE(after.allocations, 0) << node_.log();
   long rss_after = rss_kib(node_.pid());
