@@ -19,12 +19,8 @@
 #   BOARD_LTO              ON for link-time optimisation
 # The small boards share theirs in boards/small.cmake.
 
+# boards/toolchain.cmake checked that the board exists, before project().
 set(TROUPE_BOARD_DIR ${CMAKE_CURRENT_LIST_DIR}/${TROUPE_BOARD})
-if(NOT EXISTS ${TROUPE_BOARD_DIR}/board.cmake)
-  file(GLOB _boards RELATIVE ${CMAKE_CURRENT_LIST_DIR} ${CMAKE_CURRENT_LIST_DIR}/*/board.cmake)
-  string(REPLACE "/board.cmake" "" _boards "${_boards}")
-  message(FATAL_ERROR "No board '${TROUPE_BOARD}'. Boards: ${_boards}")
-endif()
 
 set(BOARD_DRIVERS "")
 set(BOARD_TOOLCHAIN native)

@@ -10,11 +10,16 @@ set(TROUPE_BOARD "host" CACHE STRING "Board to build: a folder under boards/")
 set(TROUPE_TOOLCHAIN "" CACHE STRING
     "Toolchain: a file under toolchains/ without .cmake, or 'native'; empty: the board's default")
 
+if(NOT EXISTS ${CMAKE_CURRENT_LIST_DIR}/${TROUPE_BOARD}/board.cmake)
+  file(GLOB _boards RELATIVE ${CMAKE_CURRENT_LIST_DIR} ${CMAKE_CURRENT_LIST_DIR}/*/board.cmake)
+  string(REPLACE "/board.cmake" "" _boards "${_boards}")
+  message(FATAL_ERROR "No board '${TROUPE_BOARD}'. Boards: ${_boards}")
+endif()
+
+# The board file in a scope of its own: only its toolchain is wanted here.
 function(_troupe_board_toolchain out)
   set(BOARD_TOOLCHAIN native)
-  if(EXISTS ${CMAKE_CURRENT_LIST_DIR}/${TROUPE_BOARD}/board.cmake)
-    include(${CMAKE_CURRENT_LIST_DIR}/${TROUPE_BOARD}/board.cmake)
-  endif()
+  include(${CMAKE_CURRENT_LIST_DIR}/${TROUPE_BOARD}/board.cmake)
   set(${out} ${BOARD_TOOLCHAIN} PARENT_SCOPE)
 endfunction()
 
