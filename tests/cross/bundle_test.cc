@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <cstdio>
+
 #include "tests/cross/qemu_node.h"
 #include "wire/client/client.h"
 
@@ -72,6 +74,22 @@ TEST_P(BundleTest, StartsFromItsUnpackedFolder) {
   EXPECT_NE(unit.find("WantedBy=multi-user.target"), std::string::npos);
   ASSERT_TRUE(exists(dir_ + binary)) << binary;
   ASSERT_TRUE(exists(dir_ + config)) << config;
+
+  // systemd reads the unit without a complaint (with the binary's path
+  // moved to where the bundle was unpacked: verify checks it exists).
+  if (run("command -v systemd-analyze", out) == 0) {
+    std::string copy = dir_ + "/troupe-node.service";
+    FILE* f = fopen(copy.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::string moved = unit;
+    moved.replace(moved.find(binary), binary.size(), dir_ + binary);
+    fputs(moved.c_str(), f);
+    fclose(f);
+    EXPECT_EQ(run("systemd-analyze verify " + quote(copy) + " 2>&1", out), 0) << out;
+    EXPECT_EQ(out, "");
+  } else {
+    printf("systemd-analyze is not installed: the unit's syntax is not checked\n");
+  }
 
   // The bundled binary is stripped: no symbol table left.
   ASSERT_EQ(run(quote(b.readelf) + " -S " + quote(dir_ + binary), out), 0);
