@@ -32,7 +32,15 @@ class MessageWriter {
     FLATBUFFERS_ASSERT(started_ || body.IsNull());
     if (!started_) fbb_.Clear();
     started_ = false;
-    fbb_.FinishSizePrefixed(CreateMessage(fbb_, &header, type, body));
+    // Fields go in this order on purpose: the builder lays them out back to
+    // front, and with the one-byte union type first the table needs no
+    // padding before the next object. 4 bytes less on most frames
+    // (measured: tests/bench/wire/wire_sizes).
+    MessageBuilder mb(fbb_);
+    mb.add_body_type(type);
+    mb.add_header(&header);
+    mb.add_body(body);
+    fbb_.FinishSizePrefixed(mb.Finish());
     return frame();
   }
 
