@@ -3,6 +3,6 @@
 include(${CMAKE_CURRENT_LIST_DIR}/../small.cmake)
 set(BOARD_TOOLCHAIN aarch64-linux-gnu)
 set(BOARD_DRIVERS
-  # odrive_can  (arrives with the CAN driver issue)
+  odrive_can
 )
-set(BOARD_NODE_CONFIGS nodes/diffbot-can.json)
+set(BOARD_NODE_CONFIGS nodes/diffbot-can.json nodes/diffbot-can-emulated.json)

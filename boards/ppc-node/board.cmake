@@ -5,6 +5,6 @@ include(${CMAKE_CURRENT_LIST_DIR}/../small.cmake)
 set(BOARD_TOOLCHAIN powerpc-linux-gnu)
 set(BOARD_DRIVERS
   kinematic
-  # odrive_can  (arrives with the CAN driver issue)
+  odrive_can
 )
 set(BOARD_NODE_CONFIGS nodes/ppc-node.json)

@@ -53,10 +53,11 @@ QemuNode::~QemuNode() {
 }
 
 bool QemuNode::start(const CrossBuild& build, const std::string& binary, const std::string& config,
-                     std::string& error, const std::string& preload) {
+                     std::string& error, const Extras& extras) {
   dir_ = make_temp_dir("node-" + build.name);
   log_path_ = dir_ + "/stderr.log";
-  std::vector<std::string> args = qemu_argv(build, binary, preload);
+  std::vector<std::string> args = extras.wrapper;
+  for (const std::string& a : qemu_argv(build, binary, extras.preload)) args.push_back(a);
   args.insert(args.end(), {config, "--port", "0", "--listen", "127.0.0.1"});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -95,6 +96,7 @@ bool QemuNode::start(const CrossBuild& build, const std::string& binary, const s
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;
+      exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
       error = "the node exited before serving; its log:\n" + text;
       return false;
     }

@@ -19,12 +19,21 @@ class QemuNode {
   QemuNode(const QemuNode&) = delete;
   QemuNode& operator=(const QemuNode&) = delete;
 
+  /// How to start: a target library to preload, and a host program that
+  /// runs the node as its child (e.g. {"troupe-odrive-emu", "--"}).
+  struct Extras {
+    std::string preload;
+    std::vector<std::string> wrapper;
+  };
+
   /// Starts `binary` (a troupe-node of `build`, or one unpacked from a
   /// bundle) with `config` on a free loopback port, and waits until it says
-  /// it serves. `preload`: a target library to preload, or "". False with
-  /// `error` (including the node's log) when it does not come up.
+  /// it serves. False with `error` (including the node's log) when it does
+  /// not come up; exited() then tells whether it exited, and with what.
   bool start(const CrossBuild& build, const std::string& binary, const std::string& config,
-             std::string& error, const std::string& preload = "");
+             std::string& error, const Extras& extras = {});
+  /// The exit status of a node that exited before serving, else -1.
+  int exited() const { return exit_status_; }
 
   /// The TCP port the node listens on.
   uint16_t port() const { return port_; }
@@ -42,6 +51,7 @@ class QemuNode {
 
  private:
   pid_t pid_ = -1;
+  int exit_status_ = -1;
   uint16_t port_ = 0;
   std::string log_path_;
   std::string dir_;

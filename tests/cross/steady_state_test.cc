@@ -74,10 +74,10 @@ TEST_P(SteadyState, ServesHundredThousandMessagesWithoutHeapGrowth) {
   if (!load_cross_build(GetParam(), build_, why)) {
     GTEST_SKIP() << why;
   }
+  QemuNode::Extras counted;
+  counted.preload = build_.path("tests/cross/target/libtroupe_alloc_count.so");
   std::string error;
-  ASSERT_TRUE(node_.start(build_, build_.node, build_.path("configs/ppc-node.bin"), error,
-                          build_.path("tests/cross/target/libtroupe_alloc_count.so")))
-      << error;
+  ASSERT_TRUE(node_.start(build_, build_.node, build_.path("configs/ppc-node.bin"), error, counted)) << error;
   client::Client::Options options;
   options.reconnect = false;
   client::Client c("127.0.0.1", node_.port(), options);
