@@ -379,8 +379,11 @@ void Node::send_device_list(uint32_t client, const wire::Message& msg) {
   std::vector<flatbuffers::Offset<wire::DeviceInfo>> infos;
   infos.reserve(devices_.size());
   for (const Device& dev : devices_) {
-    infos.push_back(wire::CreateDeviceInfo(b, &dev.addr, b.CreateString(dev.robot_name),
-                                           b.CreateString(dev.driver_name)));
+    // Strings first, in a fixed order: as two arguments of one call their
+    // order would be up to the compiler, and so would the frame's bytes.
+    auto robot = b.CreateString(dev.robot_name);
+    auto driver = b.CreateString(dev.driver_name);
+    infos.push_back(wire::CreateDeviceInfo(b, &dev.addr, robot, driver));
   }
   auto body = wire::CreateDeviceList(b, b.CreateVector(infos));
   const wire::Header& h = *msg.header();
