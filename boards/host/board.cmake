@@ -2,6 +2,10 @@
 # node configs, and builds the client, CLI, simulator and tests too.
 set(BOARD_DRIVERS
   kinematic
+  logreplay
+  mapfile
+  mcl
+  fusion
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)
