@@ -275,9 +275,11 @@ bool read_maybe_gzip(const std::string& path, std::string& out, std::string& err
   char chunk[1 << 16];
   int n = 0;
   while ((n = gzread(f, chunk, sizeof chunk)) > 0) out.append(chunk, size_t(n));
-  if (n < 0) {
-    int code = 0;
-    const char* why = gzerror(f, &code);
+  // A truncated gzip stream ends like a whole one (n == 0) but leaves
+  // Z_BUF_ERROR ("unexpected end of file") behind.
+  int code = Z_OK;
+  const char* why = gzerror(f, &code);
+  if (n < 0 || code != Z_OK) {
     error = path + ": read error after " + std::to_string(out.size()) + " bytes: " + why;
     gzclose(f);
     return false;

@@ -28,8 +28,4 @@ Pose2 sample_motion(const Pose2& p, const OdometryMotion& m, const MotionNoise& 
   return {p.x + tr * std::cos(heading), p.y + tr * std::sin(heading), wrap_angle(heading + r2)};
 }
 
-void sample_motion(std::span<Pose2> poses, const OdometryMotion& m, const MotionNoise& n, Rng& rng) {
-  for (Pose2& p : poses) p = sample_motion(p, m, n, rng);
-}
-
 }  // namespace troupe::desktop

@@ -4,8 +4,6 @@
 // perturbed by noise that grows with the size of the motion.
 #pragma once
 
-#include <span>
-
 #include "drivers/common_desktop/pose2.h"
 #include "drivers/common_desktop/rng.h"
 
@@ -36,9 +34,6 @@ OdometryMotion decompose(const Pose2& from, const Pose2& to);
 /// The size of a turn for the noise: a backward move's turn of ~pi is in
 /// truth a small turn plus reversing, so min(|t|, pi - |t|), rad.
 double noise_turn(double rot_rad);
-
-/// Moves every pose by `motion` with noise drawn from `rng`.
-void sample_motion(std::span<Pose2> poses, const OdometryMotion& motion, const MotionNoise& noise, Rng& rng);
 
 /// One noisy sample of the motion applied to `pose`.
 Pose2 sample_motion(const Pose2& pose, const OdometryMotion& motion, const MotionNoise& noise, Rng& rng);

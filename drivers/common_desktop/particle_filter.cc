@@ -167,11 +167,12 @@ bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
     w_slow_ += params_.alpha_slow * (w_avg - w_slow_);
     w_fast_ += params_.alpha_fast * (w_avg - w_fast_);
   }
+  // Clusters from the weighted set: resampling only adds noise to the mean.
+  cluster();
   if (++since_resample_ >= std::max<size_t>(1, params_.resample_interval)) {
     since_resample_ = 0;
     resample(rng);
   }
-  cluster();
   return true;
 }
 
