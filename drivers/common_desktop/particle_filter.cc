@@ -57,7 +57,7 @@ Pose2 ParticleFilter::random_free_pose(Rng& rng) const {
 }
 
 void ParticleFilter::init_global(Rng& rng) {
-  particles_.resize(params_.max_particles);
+  particles_.resize(std::max(params_.global_particles, params_.max_particles));
   double w = 1.0 / double(particles_.size());
   for (Particle& p : particles_) p = {random_free_pose(rng), w};
   w_slow_ = w_fast_ = 0;
@@ -134,7 +134,7 @@ double ParticleFilter::weigh(const ScanView& scan) {
     for (const Beam& b : beams_) {
       lw += field_.log_likelihood(p.pose.x + c * b.x - s * b.y, p.pose.y + s * b.x + c * b.y);
     }
-    p.weight = lw + std::log(std::max(p.weight, 1e-300));
+    p.weight = params_.beam_exponent * lw + std::log(std::max(p.weight, 1e-300));
     top = std::max(top, p.weight);
   }
   double sum = 0;
@@ -142,7 +142,7 @@ double ParticleFilter::weigh(const ScanView& scan) {
   for (Particle& p : particles_) p.weight /= sum;
   // The marginal likelihood sum(w_prev * L), per beam so that it does not
   // depend on how many beams this scan had.
-  return std::exp((top + std::log(sum)) / double(beams_.size()));
+  return std::exp((top + std::log(sum)) / (params_.beam_exponent * double(beams_.size())));
 }
 
 bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {

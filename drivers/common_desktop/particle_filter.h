@@ -33,6 +33,10 @@ namespace troupe::desktop {
 struct MclParams {
   size_t min_particles = 500;
   size_t max_particles = 5000;
+  /// Particles of a global initialisation. Finding a pose in a large map
+  /// takes a sample near it; the first resampling shrinks the set to within
+  /// [min_particles, max_particles] at once.
+  size_t global_particles = 50000;
   /// KLD sampling: the bound on the K-L divergence between the sample-based
   /// and the true posterior (epsilon), and the upper standard normal
   /// quantile of the confidence 1 - delta (2.326 for delta = 0.01).
@@ -46,6 +50,12 @@ struct MclParams {
   /// Beams used per scan, evenly spaced over the scan (the rest are skipped:
   /// neighbouring beams are not independent, and cost scales with beams).
   size_t max_beams = 60;
+  /// Each used beam's log-likelihood is multiplied by this (0..1]. Beams
+  /// of one scan are not independent, and a product of 60 densities makes
+  /// a belief far more certain than it is: a spread-out cloud collapses onto
+  /// one wrong particle at the first scan. Tempering keeps the weights as
+  /// flat as the real information warrants.
+  double beam_exponent = 1.0;
   /// Beams at or beyond this range are skipped (no return, or too far to
   /// trust), m. The laser's own maximum is applied too.
   double laser_max_range = 30.0;
@@ -90,7 +100,8 @@ class ParticleFilter {
   /// The map must outlive the filter; the likelihood field is computed here.
   ParticleFilter(const OccupancyGrid& map, const MclParams& params);
 
-  /// Global localization: max_particles poses uniform over the free cells.
+  /// Global localization: max(global_particles, max_particles) poses
+  /// uniform over the free cells.
   void init_global(Rng& rng);
   /// Pose tracking: max(min_particles, ...) poses from N(mean, cov); cov
   /// over (x, y, a): m^2, rad^2.

@@ -83,6 +83,8 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
   p.alpha_slow = opt->alpha_slow();
   p.alpha_fast = opt->alpha_fast();
   p.resample_interval = opt->resample_interval();
+  p.global_particles = opt->global_particles();
+  p.beam_exponent = opt->beam_exponent();
   if (p.min_particles == 0 || p.min_particles > p.max_particles || p.max_particles > 1'000'000) {
     error = "need 0 < min_particles <= max_particles <= 1000000";
     return false;
@@ -98,6 +100,10 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
   }
   if (p.motion.rot_rot < 0 || p.motion.rot_trans < 0 || p.motion.trans_trans < 0 || p.motion.trans_rot < 0) {
     error = "motion noise (rot_rot, rot_trans, trans_trans, trans_rot) must be >= 0";
+    return false;
+  }
+  if (p.global_particles > 1'000'000 || !(p.beam_exponent > 0 && p.beam_exponent <= 1)) {
+    error = "need global_particles <= 1000000 and beam_exponent in (0, 1]";
     return false;
   }
   if (p.max_beams == 0 || p.alpha_slow < 0 || p.alpha_fast < p.alpha_slow || p.alpha_fast > 1) {

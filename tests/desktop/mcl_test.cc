@@ -91,7 +91,7 @@ TEST(Mcl, GlobalLocalizationConverges) {
   std::vector<Pose2> route = testing::test_route();
   Rng rng(5);
   filter.init_global(rng);
-  EXPECT_EQ(filter.particles().size(), 5000u);
+  EXPECT_EQ(filter.particles().size(), 50000u);  // global_particles
   std::vector<double> err = drive(filter, route, 5);
   // Somewhere early on the belief locks onto the truth and stays there.
   size_t locked = settled_at(err, 0.25);
