@@ -282,6 +282,15 @@ TEST(DesktopDrivers, ConfigMistakesAreReportedAndTheNodeDoesNotStart) {
   }
 }
 
+TEST(DesktopDrivers, TheExampleConfigParses) {
+  LoadedConfig cfg;
+  std::string error;
+  ASSERT_TRUE(load_config(std::string(TROUPE_SOURCE_DIR) + "/examples/nodes/log_mcl.json", cfg, error))
+      << error;
+  ASSERT_NE(cfg.root->drivers(), nullptr);
+  EXPECT_EQ(cfg.root->drivers()->size(), 4u);
+}
+
 TEST(DesktopDrivers, LogReplayPlaysTheAcesLogAsDevices) {
   std::string path = std::string(TROUPE_SHARED_DATA) + "/carmen/aces-corrected.log.gz";
   if (!std::ifstream(path))

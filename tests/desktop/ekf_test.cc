@@ -92,7 +92,9 @@ TEST(Ekf, ConsistentOnSimulatedTrajectories) {
       const Step& s = traj[size_t(k)];
       ASSERT_EQ(f.add_odometry(s.t, s.odom), PoseEkf::Outcome::Applied);
       ASSERT_EQ(f.add_yaw_rate(s.t, s.gyro, gyro_sigma), PoseEkf::Outcome::Applied);
-      if (s.fix) ASSERT_EQ(f.add_pose_fix(s.t, s.fix_pose, fix_cov), PoseEkf::Outcome::Applied);
+      if (s.fix) {
+        ASSERT_EQ(f.add_pose_fix(s.t, s.fix_pose, fix_cov), PoseEkf::Outcome::Applied);
+      }
       nees[size_t(k)] += pose_nees(f, s.truth) / runs;
     }
   }
@@ -146,7 +148,9 @@ TEST(Ekf, LateFixesGiveTheSameStateAsFixesInOrder) {
   }
   EXPECT_GT(late_applied, 5u);
   EXPECT_EQ(late.late_count(), late_applied);
-  for (int i = 0; i < 5; ++i) EXPECT_NEAR(late.state()(i), in_order.state()(i), 1e-9) << i;
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_NEAR(late.state()(i), in_order.state()(i), 1e-9) << i;
+  }
   EXPECT_TRUE(late.covariance().isApprox(in_order.covariance(), 1e-9));
 }
 

@@ -91,7 +91,9 @@ TEST(OccupancyGrid, PackAndUnpackTwoBitsPerCell) {
   OccupancyGrid copy(7, 3, 0.05, {}, CellState::Free);
   ASSERT_TRUE(copy.unpack(1, 1, 5, 2, packed.data(), packed.size()));
   for (uint32_t r = 1; r < 3; ++r) {
-    for (uint32_t c = 1; c < 6; ++c) EXPECT_EQ(copy.at(c, r), g.at(c, r)) << c << "," << r;
+    for (uint32_t c = 1; c < 6; ++c) {
+      EXPECT_EQ(copy.at(c, r), g.at(c, r)) << c << "," << r;
+    }
   }
   EXPECT_FALSE(copy.unpack(3, 1, 5, 2, packed.data(), packed.size()));  // leaves the grid
   EXPECT_FALSE(copy.unpack(1, 1, 5, 2, packed.data(), 2));              // too short

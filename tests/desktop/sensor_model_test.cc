@@ -97,7 +97,9 @@ TEST(SensorModel, DistanceTransformIsExact) {
   }
   // A map without obstacles is everywhere at the cap.
   OccupancyGrid empty(5, 5, 1.0, {}, CellState::Free);
-  for (float v : squared_distance_transform(empty, CellState::Occupied, 3)) EXPECT_EQ(v, 9.0f);
+  for (float v : squared_distance_transform(empty, CellState::Occupied, 3)) {
+    EXPECT_EQ(v, 9.0f);
+  }
 }
 
 TEST(SensorModel, KldBoundGrowsWithBins) {
