@@ -41,6 +41,10 @@ class LikelihoodField {
     map_->world_to_cell(x, y, c, r);
     return map_->contains(c, r) ? log_p_[size_t(r) * map_->width() + size_t(c)] : log_p_far_;
   }
+  /// The same for a cell given by its indices (any, on the map or not).
+  float cell_log_likelihood(int64_t col, int64_t row) const {
+    return map_->contains(col, row) ? log_p_[size_t(row) * map_->width() + size_t(col)] : log_p_far_;
+  }
   /// Distance from the centre of (col, row) to the nearest occupied cell
   /// centre, capped at max_distance, m.
   double distance(uint32_t col, uint32_t row) const;

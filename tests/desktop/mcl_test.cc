@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "drivers/common_desktop/clustering.h"
+#include "drivers/common_desktop/mcl_eval.h"
 #include "drivers/common_desktop/odometry_noise.h"
 #include "drivers/common_desktop/particle_filter.h"
 #include "tests/desktop/synthetic_world.h"
@@ -126,6 +127,31 @@ TEST(Mcl, RecoversFromKidnapping) {
   size_t found = settled_at(err, 0.25);
   EXPECT_LT(found, k + 60) << "recovered only at step " << found << "; kidnapped at " << k << " of "
                            << err.size();
+}
+
+TEST(Mcl, EvaluationRunsOnLogsOf180To361Beams) {
+  // What troupe-mcl-eval does, on logs of the synthetic world: the map is
+  // drawn from the scans, odometry made from the poses, MCL run against the
+  // scans. Every FLASER beam count the brief names must work.
+  OccupancyGrid map = testing::make_test_map();
+  std::vector<Pose2> route = testing::test_route(0.3);
+  for (size_t beams : {180, 181, 360, 361}) {
+    TestLaser laser;
+    laser.beams = beams;
+    CarmenLog log = parse_carmen(testing::write_carmen_log(map, route, laser, 0.5), "synthetic.log");
+    ASSERT_EQ(log.error_count, 0u);
+    ASSERT_EQ(log.scans.size(), route.size());
+    EvalOptions opt;
+    opt.seed = 2;
+    opt.mcl.laser_max_range = opt.mcl.sensor.max_range = 8.0;
+    EvalResult r;
+    std::string error;
+    ASSERT_TRUE(evaluate_log(log, opt, r, error)) << error;
+    EXPECT_EQ(r.scans.size(), route.size());
+    EXPECT_LT(r.summary.mean_m, 0.05) << beams << " beams";
+    EXPECT_GT(r.summary.within_10cm, 0.9) << beams << " beams";
+    EXPECT_LT(r.summary.mean_deg, 1.0) << beams << " beams";
+  }
 }
 
 TEST(Mcl, SameSeedSameParticles) {

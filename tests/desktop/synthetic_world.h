@@ -15,12 +15,14 @@ namespace troupe::desktop::testing {
 /// cell known. Origin at (-1, -1) so that map and cell coordinates differ.
 OccupancyGrid make_test_map();
 
-/// A laser of `beams` beams over 180 degrees, first at -90 degrees.
+/// A laser of `beams` beams from -90 degrees, spaced as CARMEN logs SICK
+/// scans: 180/(n-1) degrees for odd counts (181, 361: a beam on both edges),
+/// 180/n for even counts (180, 360).
 struct TestLaser {
   size_t beams = 181;
   double max_range = 8.0;  // m; no return reads max_range
   double start_angle() const { return -kPi / 2; }
-  double angular_res() const { return kPi / double(beams - 1); }
+  double angular_res() const { return kPi / double(beams % 2 ? beams - 1 : beams); }
 };
 
 /// Ranges seen from `pose` (m, m, rad): marching each beam through the grid
