@@ -104,8 +104,11 @@ void ParticleFilter::select_beams(const ScanView& scan) {
   size_t n = scan.ranges.size();
   size_t want = std::max<size_t>(1, params_.max_beams);
   double step = n > want ? double(n) / double(want) : 1.0;
-  double limit = std::min(scan.max_range, params_.laser_max_range);
+  // Ranges beyond 1000 km are nonsense from any laser (and would overflow
+  // the cell arithmetic); non-finite geometry makes every beam unusable.
+  double limit = std::min({scan.max_range, params_.laser_max_range, 1e6});
   const Pose2& lp = params_.laser_pose;
+  if (!std::isfinite(scan.start_angle) || !std::isfinite(scan.angular_res)) return;
   for (double f = 0; size_t(f) < n; f += step) {
     size_t i = size_t(f);
     double r = scan.ranges[i];
@@ -141,6 +144,12 @@ double ParticleFilter::weigh(const ScanView& scan) {
   for (Particle& p : particles_) {
     Pose2 q = between(origin, p.pose);
     double qx = q.x * inv_res, qy = q.y * inv_res;
+    if (!(std::fabs(qx) < 1e12 && std::fabs(qy) < 1e12)) {  // far off the map: no lookups to overflow
+      p.weight = params_.beam_exponent * double(field_.log_likelihood_far()) * double(beams_.size()) +
+                 std::log(std::max(p.weight, 1e-300));
+      top = std::max(top, p.weight);
+      continue;
+    }
     double c = std::cos(q.a) * inv_res, s = std::sin(q.a) * inv_res, lw = 0;
     for (const Beam& b : beams_) {
       lw += field_.cell_log_likelihood(cell(qx + c * b.x - s * b.y), cell(qy + s * b.x + c * b.y));
@@ -157,6 +166,8 @@ double ParticleFilter::weigh(const ScanView& scan) {
 }
 
 bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
+  // Without a trustworthy odometry pose the scan cannot be placed.
+  if (!std::isfinite(odom.x) || !std::isfinite(odom.y) || !std::isfinite(odom.a)) return false;
   predict(odom, rng);
   if (particles_.empty()) return false;
   bool moved = moved_since_update_.x >= params_.update_min_d || moved_since_update_.a >= params_.update_min_a;

@@ -230,7 +230,11 @@ bool Mcl::odometry_at(uint64_t t, desktop::Pose2& out) const {
 
 void Mcl::on_scan(const wire::Message& data) {
   const wire::RangerScan* s = data.body_as_RangerScan();
-  if (s == nullptr || s->ranges() == nullptr || !(s->scale() > 0) || !(s->angular_res() != 0)) return;
+  if (s == nullptr || s->ranges() == nullptr || !(s->scale() > 0) || !std::isfinite(s->scale()) ||
+      !std::isfinite(s->min_angle()) || !std::isfinite(s->angular_res()) || s->angular_res() == 0) {
+    if (++bad_scans_ <= 10) log_warn("%s: ignoring a scan without usable geometry or scale", name_.c_str());
+    return;
+  }
   scan_ranges_.resize(s->ranges()->size());
   for (size_t i = 0; i < scan_ranges_.size(); ++i)
     scan_ranges_[i] = float(s->ranges()->Get(uint32_t(i))) * s->scale();
@@ -269,13 +273,12 @@ void Mcl::publish(uint64_t time_us) {
   if (hyps.empty()) return;
   {
     auto& b = node_->begin();
-    std::vector<wire::Hypothesis> out;
-    out.reserve(hyps.size());
+    hyp_out_.clear();
     for (const desktop::PoseHypothesis& h : hyps) {
       wire::Pose2d mean(float(h.mean.x), float(h.mean.y), float(h.mean.a));
-      out.emplace_back(mean, to_wire(h.cov), float(h.weight));
+      hyp_out_.emplace_back(mean, to_wire(h.cov), float(h.weight));
     }
-    auto vec = b.CreateVectorOfStructs(out);
+    auto vec = b.CreateVectorOfStructs(hyp_out_);
     auto body = wire::CreateLocalizeState(b, vec, 0, time_us);
     node_->publish(localize_, uint8_t(wire::LocalizeDataSub::Hypotheses), wire::Body::LocalizeState,
                    body.Union(), time_us);

@@ -75,6 +75,8 @@ class Mcl : public Driver {
   uint64_t scan_time_us_ = 0;
   desktop::ScanView scan_view_;
   std::vector<float> scan_ranges_;
+  std::vector<wire::Hypothesis> hyp_out_;  // reused for each publication
+  size_t bad_scans_ = 0;
 };
 
 }  // namespace troupe::drivers::mcl

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "drivers/common_desktop/clustering.h"
 #include "drivers/common_desktop/mcl_eval.h"
@@ -152,6 +153,27 @@ TEST(Mcl, EvaluationRunsOnLogsOf180To361Beams) {
     EXPECT_GT(r.summary.within_10cm, 0.9) << beams << " beams";
     EXPECT_LT(r.summary.mean_deg, 1.0) << beams << " beams";
   }
+}
+
+TEST(Mcl, GarbageInputsLeaveTheBeliefAlone) {
+  OccupancyGrid map = testing::make_test_map();
+  ParticleFilter filter(map, test_params());
+  Rng rng(8);
+  filter.init_pose({2, 3, 0}, Eigen::Vector3d(0.01, 0.01, 0.01).asDiagonal(), rng);
+  std::vector<float> ranges(181, 2.0f);
+  std::vector<Particle> before(filter.particles().begin(), filter.particles().end());
+  const double nan = std::nan("");
+  EXPECT_FALSE(filter.update({0, 0, 0}, {nan, 0.01, 8.0, ranges}, rng));  // first odometry, bad geometry
+  EXPECT_FALSE(filter.update({nan, 0, 0}, {-1.5, 0.01, 8.0, ranges}, rng));
+  EXPECT_FALSE(filter.update({0, 0, 0}, {-1.5, std::numeric_limits<double>::infinity(), 8.0, ranges}, rng));
+  std::vector<float> absurd(181, 1e30f);
+  EXPECT_FALSE(filter.update({0, 0, 0}, {-1.5, 0.01, 1e31, absurd}, rng));
+  ASSERT_EQ(filter.particles().size(), before.size());
+  for (size_t i = 0; i < before.size(); ++i) ASSERT_EQ(filter.particles()[i].pose.x, before[i].pose.x);
+  // Odometry that jumps a light year away: particles follow, weighing does
+  // not overflow, and the filter keeps running.
+  filter.update({9.46e15, 0, 0}, {-1.5, 0.01, 8.0, ranges}, rng);
+  EXPECT_GT(filter.particles().size(), 0u);
 }
 
 TEST(Mcl, SameSeedSameParticles) {
