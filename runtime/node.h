@@ -105,8 +105,8 @@ class Node final : public TimerHandler {
   /// from->on_reply(): the target's Ack or Nack, or a Nack Timeout. It may
   /// come before this returns. False when no request slot is free or the
   /// device has no driver (then no reply comes).
-  bool request(DeviceId device, uint8_t subtype, uint32_t seq, wire::Body type, flatbuffers::Offset<void> body,
-               Driver* from);
+  bool request(DeviceId device, uint8_t subtype, uint32_t seq, wire::Body type,
+               flatbuffers::Offset<void> body, Driver* from);
 
   /// Replies Ack with the body built since begin() (or none).
   void ack(RequestToken token, wire::Body type = wire::Body::NONE,
