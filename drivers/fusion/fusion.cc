@@ -110,7 +110,7 @@ void Fusion::on_data(DeviceId source, const wire::Message& data) {
     if (s == nullptr || s->pose() == nullptr) return;
     Outcome o = ekf_->add_odometry(t, {s->pose()->x(), s->pose()->y(), s->pose()->a()});
     on_outcome(o, "odometry");
-    if (o == Outcome::Applied || o == Outcome::AppliedLate) publish();
+    if (o == Outcome::Applied || o == Outcome::AppliedLate) publish(t);
   } else if (source == imu_in_) {
     const wire::ImuState* s = data.body_as_ImuState();
     if (s == nullptr || s->gyro() == nullptr) return;
@@ -127,7 +127,7 @@ void Fusion::on_data(DeviceId source, const wire::Message& data) {
     cov(2, 2) = std::max(cov(2, 2), fix_min_var_a_);
     Outcome o = ekf_->add_pose_fix(t, {h->mean().x(), h->mean().y(), h->mean().a()}, cov);
     on_outcome(o, "localize fix");
-    if (o == Outcome::Applied || o == Outcome::AppliedLate) publish();
+    if (o == Outcome::Applied || o == Outcome::AppliedLate) publish(t);
   } else if (source == fiducial_in_) {
     const wire::FiducialList* s = data.body_as_FiducialList();
     if (s == nullptr || s->fiducials() == nullptr) return;
@@ -142,14 +142,18 @@ void Fusion::on_data(DeviceId source, const wire::Message& data) {
       on_outcome(o, "fiducial sighting");
       applied |= o == Outcome::Applied || o == Outcome::AppliedLate;
     }
-    if (applied) publish();
+    if (applied) publish(t);
   }
 }
 
-void Fusion::publish() {
+void Fusion::publish(double time_s) {
   if (!ekf_->ready()) return;
-  const desktop::PoseEkf::State& x = ekf_->state();
-  const desktop::PoseEkf::Cov& p = ekf_->covariance();
+  // The newest state, carried forward to the input's time when that is
+  // newer (the first odometry sample after a fix adds no measurement).
+  time_s = std::max(time_s, ekf_->time_s());
+  desktop::PoseEkf::State x;
+  desktop::PoseEkf::Cov p;
+  ekf_->predict_to(time_s, x, p);
   auto& b = node_->begin();
   wire::Pose2d pose(float(x(0)), float(x(1)), float(x(2)));
   wire::Pose2d vel(float(x(3)), 0, float(x(4)));
@@ -157,7 +161,7 @@ void Fusion::publish() {
                   float(p(2, 2)));
   auto body = wire::CreatePosition2dState(b, &pose, &vel, false, &cov);
   node_->publish(out_, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(),
-                 uint64_t(std::llround(ekf_->time_s() * 1e6)));
+                 uint64_t(std::llround(time_s * 1e6)));
 }
 
 extern const DriverEntry kEntry;

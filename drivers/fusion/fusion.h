@@ -29,7 +29,9 @@ class Fusion : public Driver {
 
  private:
   void on_outcome(desktop::PoseEkf::Outcome o, const char* what);
-  void publish();
+  /// Publishes the state at `time_s` (s, node clock) or the filter's newest
+  /// time, whichever is later.
+  void publish(double time_s);
 
   std::string name_;
   DeviceId odom_in_ = kNoDevice, imu_in_ = kNoDevice, localize_in_ = kNoDevice, fiducial_in_ = kNoDevice;
