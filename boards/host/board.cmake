@@ -2,6 +2,7 @@
 # node configs, and builds the client, CLI, simulator and tests too.
 set(BOARD_DRIVERS
   kinematic
+  odrive_can
   logreplay
   mapfile
   mcl

@@ -387,7 +387,6 @@ bool Client::command(const wire::Address& addr, uint8_t subtype, wire::Body type
     error_ = "not connected to " + host_;
     return false;
   }
-  if (type == wire::Body::NONE) writer_.start();  // no body: nothing was begun
   return queue(writer_.finish(wire::make_header(addr, wire::Kind::Command, subtype, next_seq(), now_us()), type,
                               body));
 }
@@ -395,7 +394,6 @@ bool Client::command(const wire::Address& addr, uint8_t subtype, wire::Body type
 Reply Client::request(const wire::Address& addr, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body,
                       int timeout_ms) {
   uint32_t seq = next_seq();
-  if (type == wire::Body::NONE) writer_.start();
   if (state_ == State::Idle ||
       !queue(writer_.finish(wire::make_header(addr, wire::Kind::Request, subtype, seq, now_us()), type, body))) {
     Reply r;
@@ -420,7 +418,6 @@ bool Client::sync(int timeout_ms) {
 
 bool Client::device_list(std::vector<DeviceEntry>& out, int timeout_ms) {
   uint32_t seq = next_seq();
-  writer_.start();
   if (!send_simple({}, wire::Kind::DeviceList, seq)) {
     error_ = "not connected to " + host_;
     return false;
@@ -481,14 +478,12 @@ bool Client::open(const wire::Address& addr, wire::Access access, wire::Delivery
 bool Client::close(const wire::Address& addr, int timeout_ms) {
   std::erase_if(opened_, [&](const Opened& o) { return o.addr == addr; });
   uint32_t seq = next_seq();
-  writer_.start();
   if (!send_simple(addr, wire::Kind::Close, seq)) return false;
   return wait_reply(seq, timeout_ms).ok();
 }
 
 bool Client::pull(const wire::Address& addr, int timeout_ms) {
   uint32_t seq = next_seq();
-  writer_.start();
   if (!send_simple(addr, wire::Kind::Pull, seq)) {
     error_ = "not connected to " + host_;
     return false;

@@ -82,9 +82,9 @@ class Client {
   /// Node clock minus this process's monotonic clock, us, from TimeSync at
   /// connect (0 before). Add it to local time to get node time.
   int64_t clock_offset_us() const { return clock_offset_us_; }
-  /// A round trip to the node (TimeSync): everything sent before it has been
-  /// handled, and any reply or Nack it caused has arrived, when this returns
-  /// true. Refreshes clock_offset_us().
+  /// A round trip to the node (TimeSync): when it returns true, everything
+  /// sent before it was handled (commands given to their drivers) and any
+  /// reply or Nack it caused has arrived. Refreshes clock_offset_us().
   bool sync(int timeout_ms = 2000);
   /// Successful connections so far (1 after the first connect).
   uint32_t connections() const { return connections_; }
