@@ -85,12 +85,9 @@ TEST(Udp, ClientLibraryProxiesWorkOverUdp) {
 }
 
 TEST(PollLoop, ClientRunsInsideTheCallersOwnPoll) {
-  NodeThread n(test_options());
-  auto* rec = new Recorder;
-  n.add_device(Interface::Ranger, 0, rec);
-  n.start();
-  client::Client c("127.0.0.1", n.port());
-  ASSERT_TRUE(c.connect());
+  RecorderNode n(Interface::Ranger);
+  Recorder* rec = n.recorder;
+  client::Client& c = *n.client;
   client::RangerProxy scans(c);
   rec->stream(5);
   // The caller's loop: its own descriptor (a pipe it never writes) beside the client's.
