@@ -1,0 +1,139 @@
+// The ranger model (sonar rings, IR, lasers). Each beam is cast through the
+// static grid; then the robots near the sensor are tested only against the
+// beams their bounding circle can cross (an angular interval per robot), and
+// only where they could be nearer than the wall already found.
+#include <algorithm>
+#include <cmath>
+
+#include "host-sim/sim/engine.h"
+
+namespace troupe::sim {
+namespace {
+
+// A beam index from a real one, clamped before the conversion.
+int index_at(double v, int lo, int hi) {
+  return int(std::clamp(v, double(lo) - 1, double(hi) + 1));
+}
+
+}  // namespace
+
+double Engine::ray_robot(RobotId j, Vec2 origin, Vec2 dir) const {
+  const Body& b = bodies[j];
+  // Into the robot's frame, where its outline is stored.
+  const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
+  const Vec2 d0{origin.x - b.pose.x, origin.y - b.pose.y};
+  const Vec2 o{c * d0.x + s * d0.y, -s * d0.x + c * d0.y};
+  const Vec2 d{c * dir.x + s * dir.y, -s * dir.x + c * dir.y};
+  double best = -1;
+  for (uint32_t k = 0; k < b.poly_count; ++k) {
+    const PolyRef& p = polys[b.poly_first + k];
+    double t = ray_polygon(o, d, {verts.data() + p.first, p.count});
+    if (t >= 0 && (best < 0 || t < best)) best = t;
+  }
+  return best;
+}
+
+const StaticInfo* Engine::static_at(Vec2 p) const {
+  const StaticInfo* best = nullptr;
+  for (const StaticInfo& s : statics) {
+    if (p.x < s.lo.x || p.x > s.hi.x || p.y < s.lo.y || p.y > s.hi.y) continue;
+    if (!best || s.area < best->area) best = &s;
+  }
+  return best;
+}
+
+void Engine::update_rangers() {
+  for (uint32_t r = 0; r < rangers.size(); ++r) {
+    if (rangers[r].wanted) update_ranger(r);
+  }
+}
+
+void Engine::update_ranger(uint32_t index) {
+  RangerState& rs = rangers[index];
+  const Body& self = bodies[rs.robot];
+  float* out = ranges.data();
+  float* inten = intensities.data();
+
+  // Robots that may cross any beam of this ranger.
+  candidates.clear();
+  hash.query({self.pose.x, self.pose.y}, rs.reach, [&](uint32_t j) {
+    if (j == rs.robot || !bodies[j].ranger_visible) return;
+    const Body& o = bodies[j];
+    if (std::hypot(o.pose.x - self.pose.x, o.pose.y - self.pose.y) <= rs.reach + o.radius)
+      candidates.push_back(j);
+  });
+
+  const uint64_t noise_stream = Random::stream(uint64_t(RandomKind::RangerNoise), index, steps);
+  const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), index, steps);
+  const uint64_t angle_stream = Random::stream(uint64_t(RandomKind::RangerAngle), index, steps);
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+    const Transducer& td = transducers[t];
+    const Pose org = compose(self.pose, td.pose);
+    const Vec2 o{org.x, org.y};
+    const uint32_t n = td.samples;
+    float* r = out + td.beam_first;
+    float* in = inten + td.beam_first;
+    // Static obstacles, beam by beam.
+    for (uint32_t s = 0; s < n; ++s) {
+      double a = org.a + td.start + td.incr * s;
+      if (td.noise_angle > 0) a += 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
+      const Vec2 dir{std::cos(a), std::sin(a)};
+      r[s] = map.cast(o, dir, td.range_max, StaticMap::kRangerMask);
+      in[s] = 0;
+      if (r[s] < td.range_max) {
+        const double step_in = 0.5 * map.resolution();
+        const StaticInfo* hit = static_at(o + (r[s] + step_in) * dir);
+        in[s] = hit ? float(std::max(0.0, hit->look.ranger_return)) : 1.0f;
+      }
+    }
+    // Robots, only on the beams each can cross.
+    for (uint32_t j : candidates) {
+      const Body& ob = bodies[j];
+      const double dx = ob.pose.x - o.x, dy = ob.pose.y - o.y;
+      const double dist = std::hypot(dx, dy);
+      if (dist - ob.radius >= td.range_max) continue;
+      const double half = (dist > ob.radius ? std::asin(ob.radius / dist) : kPi) + 0.5 * td.noise_angle;
+      int lo = 0, hi = int(n) - 1;
+      if (n > 1 && half < kPi && td.incr > 0) {
+        const int last = int(n) - 1;
+        const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
+        lo = std::max(0, index_at(std::ceil((rel - half) / td.incr), 0, last));
+        hi = std::min(last, index_at(std::floor((rel + half) / td.incr), 0, last));
+        // A fan reaching round behind the sensor: the other side of the seam.
+        if (lo > hi && td.incr * last > kPi) {
+          const double wrapped = rel < 0 ? rel + 2 * kPi : rel - 2 * kPi;
+          lo = std::max(0, index_at(std::ceil((wrapped - half) / td.incr), 0, last));
+          hi = std::min(last, index_at(std::floor((wrapped + half) / td.incr), 0, last));
+        }
+      } else if (n == 1 && half < kPi) {
+        const double rel = wrap_angle(std::atan2(dy, dx) - org.a);
+        if (std::fabs(rel) > half) continue;
+      }
+      for (int s = lo; s <= hi; ++s) {
+        if (dist - ob.radius >= r[s]) continue;
+        double a = org.a + td.start + td.incr * s;
+        if (td.noise_angle > 0) a += 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
+        const double hit = ray_robot(j, o, {std::cos(a), std::sin(a)});
+        if (hit >= 0 && hit < r[s]) {
+          r[s] = float(hit);
+          in[s] = float(std::max(0.0, desc.robots[j].look.ranger_return));
+        }
+      }
+    }
+    // Noise on returns, then the sensor's limits.
+    for (uint32_t s = 0; s < n; ++s) {
+      if (r[s] < td.range_max) {
+        double v = r[s];
+        if (td.noise_prop > 0) v += v * td.noise_prop * random.symmetric(noise_stream, td.beam_first + s);
+        if (td.noise_sd > 0) v += td.noise_sd * random.gaussian(gauss_stream, td.beam_first + s);
+        r[s] = float(std::clamp(v, double(td.range_min), double(td.range_max)));
+      } else {
+        r[s] = td.range_max;
+      }
+      r[s] = std::max(r[s], td.range_min);
+    }
+  }
+  rs.step = steps;
+}
+
+}  // namespace troupe::sim
