@@ -170,6 +170,8 @@ struct Engine {
   std::vector<double> hash_radii;
   std::vector<uint8_t> accept;
   std::vector<uint32_t> candidates;
+  std::vector<RayQuery> ray_queries;
+  std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
 };

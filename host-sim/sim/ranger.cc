@@ -51,10 +51,54 @@ void Engine::update_rangers() {
 void Engine::update_ranger(uint32_t index) {
   RangerState& rs = rangers[index];
   const Body& self = bodies[rs.robot];
-  float* out = ranges.data();
-  float* inten = intensities.data();
+  float* const out = ranges.data() + rs.beam_first;
+  float* const inten = intensities.data() + rs.beam_first;
+  const uint64_t noise_stream = Random::stream(uint64_t(RandomKind::RangerNoise), index, steps);
+  const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), index, steps);
+  const uint64_t angle_stream = Random::stream(uint64_t(RandomKind::RangerAngle), index, steps);
 
-  // Robots that may cross any beam of this ranger.
+  // Every beam of the ranger, cast through the grid together.
+  ray_queries.clear();
+  transducer_poses.clear();
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+    const Transducer& td = transducers[t];
+    const Pose org = compose(self.pose, td.pose);
+    transducer_poses.push_back(org);
+    const double a0 = org.a + td.start;
+    if (td.noise_angle > 0) {
+      for (uint32_t s = 0; s < td.samples; ++s) {
+        const double a =
+            a0 + td.incr * s + 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
+        ray_queries.push_back({{org.x, org.y}, {std::cos(a), std::sin(a)}, td.range_max});
+      }
+      continue;
+    }
+    // Evenly spread beams: rotate the first direction rather than call
+    // sin and cos per beam.
+    Vec2 dir{std::cos(a0), std::sin(a0)};
+    const double c = std::cos(double(td.incr)), sn = std::sin(double(td.incr));
+    for (uint32_t s = 0; s < td.samples; ++s) {
+      ray_queries.push_back({{org.x, org.y}, dir, td.range_max});
+      dir = {c * dir.x - sn * dir.y, sn * dir.x + c * dir.y};
+    }
+  }
+  map.cast_batch(ray_queries, StaticMap::kRangerMask, out);
+  const bool one_static = statics.size() == 1;
+  const float static_return = one_static ? float(std::max(0.0, statics[0].look.ranger_return)) : 1.0f;
+  for (uint32_t b = 0; b < rs.beam_count; ++b) {
+    inten[b] = 0;
+    if (out[b] >= ray_queries[b].max_range) continue;
+    if (one_static) {
+      inten[b] = static_return;
+    } else {
+      const RayQuery& q = ray_queries[b];
+      const StaticInfo* hit = static_at(q.origin + (out[b] + 0.5 * map.resolution()) * q.dir);
+      inten[b] = hit ? float(std::max(0.0, hit->look.ranger_return)) : 1.0f;
+    }
+  }
+
+  // Robots that may cross a beam, tested only on the beams they can cross
+  // and only where they could be nearer than what the beam already hit.
   candidates.clear();
   hash.query({self.pose.x, self.pose.y}, rs.reach, [&](uint32_t j) {
     if (j == rs.robot || !bodies[j].ranger_visible) return;
@@ -62,66 +106,57 @@ void Engine::update_ranger(uint32_t index) {
     if (std::hypot(o.pose.x - self.pose.x, o.pose.y - self.pose.y) <= rs.reach + o.radius)
       candidates.push_back(j);
   });
-
-  const uint64_t noise_stream = Random::stream(uint64_t(RandomKind::RangerNoise), index, steps);
-  const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), index, steps);
-  const uint64_t angle_stream = Random::stream(uint64_t(RandomKind::RangerAngle), index, steps);
-  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count && !candidates.empty();
+       ++t) {
     const Transducer& td = transducers[t];
-    const Pose org = compose(self.pose, td.pose);
+    const uint32_t first = td.beam_first - rs.beam_first, n = td.samples;
+    const Pose& org = transducer_poses[t - rs.transducer_first];
     const Vec2 o{org.x, org.y};
-    const uint32_t n = td.samples;
-    float* r = out + td.beam_first;
-    float* in = inten + td.beam_first;
-    // Static obstacles, beam by beam.
-    for (uint32_t s = 0; s < n; ++s) {
-      double a = org.a + td.start + td.incr * s;
-      if (td.noise_angle > 0) a += 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
-      const Vec2 dir{std::cos(a), std::sin(a)};
-      r[s] = map.cast(o, dir, td.range_max, StaticMap::kRangerMask);
-      in[s] = 0;
-      if (r[s] < td.range_max) {
-        const double step_in = 0.5 * map.resolution();
-        const StaticInfo* hit = static_at(o + (r[s] + step_in) * dir);
-        in[s] = hit ? float(std::max(0.0, hit->look.ranger_return)) : 1.0f;
-      }
-    }
-    // Robots, only on the beams each can cross.
     for (uint32_t j : candidates) {
       const Body& ob = bodies[j];
       const double dx = ob.pose.x - o.x, dy = ob.pose.y - o.y;
-      const double dist = std::hypot(dx, dy);
-      if (dist - ob.radius >= td.range_max) continue;
-      const double half = (dist > ob.radius ? std::asin(ob.radius / dist) : kPi) + 0.5 * td.noise_angle;
       int lo = 0, hi = int(n) - 1;
-      if (n > 1 && half < kPi && td.incr > 0) {
-        const int last = int(n) - 1;
-        const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
-        lo = std::max(0, index_at(std::ceil((rel - half) / td.incr), 0, last));
-        hi = std::min(last, index_at(std::floor((rel + half) / td.incr), 0, last));
-        // A fan reaching round behind the sensor: the other side of the seam.
-        if (lo > hi && td.incr * last > kPi) {
-          const double wrapped = rel < 0 ? rel + 2 * kPi : rel - 2 * kPi;
-          lo = std::max(0, index_at(std::ceil((wrapped - half) / td.incr), 0, last));
-          hi = std::min(last, index_at(std::floor((wrapped + half) / td.incr), 0, last));
+      if (n == 1) {
+        // One beam: does it pass within the robot's circle, ahead of what it hit?
+        const Vec2 d = ray_queries[first].dir;
+        const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
+        if (std::fabs(across) > ob.radius || along + ob.radius < 0 || along - ob.radius >= out[first])
+          continue;
+      } else {
+        const double dist = std::hypot(dx, dy);
+        if (dist - ob.radius >= td.range_max) continue;
+        const double half = (dist > ob.radius ? std::asin(ob.radius / dist) : kPi) + 0.5 * td.noise_angle;
+        if (half < kPi && td.incr > 0) {
+          const int last = int(n) - 1;
+          // Bearing from the first beam; the fan is centred on the heading.
+          const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
+          lo = std::max(0, index_at(std::ceil((rel - half) / td.incr), 0, last));
+          hi = std::min(last, index_at(std::floor((rel + half) / td.incr), 0, last));
+          // A fan reaching round behind the sensor: the other side of the seam.
+          if (lo > hi && td.incr * last > kPi) {
+            const double wrapped = rel < 0 ? rel + 2 * kPi : rel - 2 * kPi;
+            lo = std::max(0, index_at(std::ceil((wrapped - half) / td.incr), 0, last));
+            hi = std::min(last, index_at(std::floor((wrapped + half) / td.incr), 0, last));
+          }
         }
-      } else if (n == 1 && half < kPi) {
-        const double rel = wrap_angle(std::atan2(dy, dx) - org.a);
-        if (std::fabs(rel) > half) continue;
       }
       for (int s = lo; s <= hi; ++s) {
-        if (dist - ob.radius >= r[s]) continue;
-        double a = org.a + td.start + td.incr * s;
-        if (td.noise_angle > 0) a += 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
-        const double hit = ray_robot(j, o, {std::cos(a), std::sin(a)});
-        if (hit >= 0 && hit < r[s]) {
-          r[s] = float(hit);
-          in[s] = float(std::max(0.0, desc.robots[j].look.ranger_return));
+        const RayQuery& q = ray_queries[first + uint32_t(s)];
+        float& r = out[first + uint32_t(s)];
+        const double hit = ray_robot(j, q.origin, q.dir);
+        if (hit >= 0 && hit < r) {
+          r = float(hit);
+          inten[first + uint32_t(s)] = float(std::max(0.0, desc.robots[j].look.ranger_return));
         }
       }
     }
-    // Noise on returns, then the sensor's limits.
-    for (uint32_t s = 0; s < n; ++s) {
+  }
+
+  // Noise on returns, then the sensor's limits.
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+    const Transducer& td = transducers[t];
+    float* r = out + (td.beam_first - rs.beam_first);
+    for (uint32_t s = 0; s < td.samples; ++s) {
       if (r[s] < td.range_max) {
         double v = r[s];
         if (td.noise_prop > 0) v += v * td.noise_prop * random.symmetric(noise_stream, td.beam_first + s);

@@ -28,15 +28,6 @@ uint8_t code_of(uint8_t bits) {
   return bits == 3 ? StaticMap::kSolid : bits == 2 ? StaticMap::kVisible : StaticMap::kBarrier;
 }
 
-// Marching: a free cell of code c is at least (c - kFreeBase) cells from the
-// nearest occupied cell centre, so at least (c - kFreeBase) - sqrt(2) from any
-// point of an occupied cell seen from anywhere in this cell. Stepping
-// (c - kFreeBase) - 1.5 cells never skips one.
-constexpr float kMarchSlack = StaticMap::kFreeBase + 1.5f;
-constexpr uint8_t kMarchFrom = StaticMap::kFreeBase + 3;   // march when >= 3 cells clear
-constexpr uint8_t kResumeFrom = StaticMap::kFreeBase + 4;  // leave the walk when >= 4
-constexpr float kFar = 1e30f;
-
 }  // namespace
 
 void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
@@ -178,101 +169,6 @@ void StaticMap::finish() {
       double d = std::floor(std::sqrt(d2) + 1e-9);
       row[q] = uint8_t(kFreeBase + std::min(d, 253.0));
     }
-  }
-}
-
-bool StaticMap::clip(float ox, float oy, float dx, float dy, float& t0, float& t1) const {
-  const float lo[2] = {0, 0}, hi[2] = {float(w_), float(h_)};
-  const float o[2] = {ox, oy}, d[2] = {dx, dy};
-  for (int i = 0; i < 2; ++i) {
-    if (d[i] == 0) {
-      if (o[i] < lo[i] || o[i] >= hi[i]) return false;
-      continue;
-    }
-    float a = (lo[i] - o[i]) / d[i], b = (hi[i] - o[i]) / d[i];
-    if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
-  }
-  return t0 < t1;
-}
-
-float StaticMap::cast(Vec2 origin, Vec2 dir, float max_range, uint8_t mask) const {
-  const float ox = float((origin.x - origin_.x) * inv_res_), oy = float((origin.y - origin_.y) * inv_res_);
-  const float dx = float(dir.x), dy = float(dir.y);
-  float t = 0, t_end = float(max_range * inv_res_);
-  if (!clip(ox, oy, dx, dy, t, t_end)) return max_range;
-  const uint8_t* g = codes_.data();
-  const int w = w_, h = h_;
-  const float inv_dx = dx != 0 ? 1.0f / dx : kFar, inv_dy = dy != 0 ? 1.0f / dy : kFar;
-  const int step_x = dx >= 0 ? 1 : -1, step_y = dy >= 0 ? 1 : -1;
-  const float delta_x = dx != 0 ? std::fabs(inv_dx) : kFar, delta_y = dy != 0 ? std::fabs(inv_dy) : kFar;
-  while (t < t_end) {
-    const float px = ox + t * dx, py = oy + t * dy;
-    int ix = std::clamp(int(px), 0, w - 1), iy = std::clamp(int(py), 0, h - 1);
-    uint8_t c = g[size_t(iy) * size_t(w) + size_t(ix)];
-    if (c >= kMarchFrom) {
-      t += float(c) - kMarchSlack;
-      continue;
-    }
-    // Near an obstacle: walk cell by cell from here.
-    float next_x =
-        dx > 0 ? t + (float(ix + 1) - px) * inv_dx : (dx < 0 ? t + (float(ix) - px) * inv_dx : kFar);
-    float next_y =
-        dy > 0 ? t + (float(iy + 1) - py) * inv_dy : (dy < 0 ? t + (float(iy) - py) * inv_dy : kFar);
-    float entry = t;
-    while (true) {
-      if (c <= kBarrier && ((mask >> c) & 1u)) return float(entry * res_);
-      if (c >= kResumeFrom) {
-        t = entry + float(c) - kMarchSlack;
-        break;
-      }
-      if (next_x < next_y) {
-        entry = next_x;
-        next_x += delta_x;
-        ix += step_x;
-        if (ix < 0 || ix >= w) return max_range;
-      } else {
-        entry = next_y;
-        next_y += delta_y;
-        iy += step_y;
-        if (iy < 0 || iy >= h) return max_range;
-      }
-      if (entry >= t_end) return max_range;
-      c = g[size_t(iy) * size_t(w) + size_t(ix)];
-    }
-  }
-  return max_range;
-}
-
-float StaticMap::cast_per_cell(Vec2 origin, Vec2 dir, float max_range, uint8_t mask) const {
-  const float ox = float((origin.x - origin_.x) * inv_res_), oy = float((origin.y - origin_.y) * inv_res_);
-  const float dx = float(dir.x), dy = float(dir.y);
-  float t = 0, t_end = float(max_range * inv_res_);
-  if (!clip(ox, oy, dx, dy, t, t_end)) return max_range;
-  const float px = ox + t * dx, py = oy + t * dy;
-  int ix = std::clamp(int(px), 0, w_ - 1), iy = std::clamp(int(py), 0, h_ - 1);
-  const float inv_dx = dx != 0 ? 1.0f / dx : kFar, inv_dy = dy != 0 ? 1.0f / dy : kFar;
-  const int step_x = dx >= 0 ? 1 : -1, step_y = dy >= 0 ? 1 : -1;
-  const float delta_x = dx != 0 ? std::fabs(inv_dx) : kFar, delta_y = dy != 0 ? std::fabs(inv_dy) : kFar;
-  float next_x = dx > 0 ? t + (float(ix + 1) - px) * inv_dx : (dx < 0 ? t + (float(ix) - px) * inv_dx : kFar);
-  float next_y = dy > 0 ? t + (float(iy + 1) - py) * inv_dy : (dy < 0 ? t + (float(iy) - py) * inv_dy : kFar);
-  float entry = t;
-  while (true) {
-    uint8_t c = codes_[size_t(iy) * size_t(w_) + size_t(ix)];
-    if (c <= kBarrier && ((mask >> c) & 1u)) return float(entry * res_);
-    if (next_x < next_y) {
-      entry = next_x;
-      next_x += delta_x;
-      ix += step_x;
-      if (ix < 0 || ix >= w_) return max_range;
-    } else {
-      entry = next_y;
-      next_y += delta_y;
-      iy += step_y;
-      if (iy < 0 || iy >= h_) return max_range;
-    }
-    if (entry >= t_end) return max_range;
   }
 }
 

@@ -268,6 +268,10 @@ const Random& World::random() const {
   return e_->random;
 }
 
+void World::set_raycast_per_cell(bool on) {
+  e_->map.set_per_cell(on);
+}
+
 size_t World::memory_bytes() const {
   const Engine& e = *e_;
   return e.map.memory_bytes() + e.hash.memory_bytes() + e.bodies.capacity() * sizeof(Body) +

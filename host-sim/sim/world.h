@@ -216,6 +216,9 @@ class World {
   const Random& random() const;
   /// Bytes held by the engine's arrays (grid, hash, robots, sensors).
   size_t memory_bytes() const;
+  /// Benchmarks only: cast every ray cell by cell (the baseline the
+  /// distance-field marching is measured against). Results are the same.
+  void set_raycast_per_cell(bool on);
 
  private:
   std::unique_ptr<Engine> e_;
