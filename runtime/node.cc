@@ -192,6 +192,11 @@ void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint
     return server_->close_with_error(client, ErrorCode::BadBody, text);
   }
 
+  // Anything answered is answered after the commands sent before it reached
+  // their drivers: a reply then tells the client its commands are in effect.
+  // Commands back to back are still collapsed to the newest.
+  if (kind != Kind::Command && !pending_commands_.empty()) deliver_commands();
+
   switch (kind) {
     case Kind::DeviceList: return send_device_list(client, msg);
     case Kind::TimeSync: return send_time_sync(client, msg);
@@ -232,7 +237,9 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   if (r == nullptr) {
     dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});
     r = &dev.readers.back();
-    server_->clients_[client].opened.push_back(id);
+    auto& c = server_->clients_[client];
+    c.opened.push_back(id);
+    c.dirty.reserve(c.opened.size());  // each opened device is dirty at most once
   } else {
     r->delivery = uint8_t(delivery);
     r->access = uint8_t(access);

@@ -33,7 +33,11 @@ class Node final : public TimerHandler {
     /// Replies and other reliable frames queued for a client that is not
     /// reading, bytes. A client over it is disconnected. Data never queues:
     /// a slow reader gets the newest sample when it catches up.
-    uint32_t client_queue_bytes = 256 * 1024;
+    uint32_t client_queue_bytes = 64 * 1024;
+    /// Kernel send buffer per client socket, bytes (0: the kernel's default,
+    /// which grows to megabytes). Bounds what a client that stops reading
+    /// can pin in the kernel.
+    uint32_t socket_send_bytes = 0;
     wire::Limits limits;
     /// A request without a reply by then is answered Timeout, ms.
     uint32_t request_timeout_ms = 2000;

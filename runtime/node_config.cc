@@ -91,6 +91,7 @@ Node::Options node_options(const config::NodeConfig& cfg) {
   o.client_queue_bytes = cfg.client_queue_bytes();
   o.limits.max_frame_bytes = cfg.max_frame_bytes();
   o.request_timeout_ms = cfg.request_timeout_ms();
+  o.socket_send_bytes = cfg.socket_send_bytes();
   return o;
 }
 

@@ -26,6 +26,9 @@ constexpr int kReadsPerEvent = 8;
 constexpr size_t kReadChunk = 16 * 1024;
 // Largest UDP payload; bigger data goes over TCP.
 constexpr size_t kMaxDatagram = 65507;
+// Room kept for the tail of a data frame the socket took only part of; a
+// larger frame grows it once.
+constexpr size_t kPartialReserve = 4096;
 
 bool set_nonblocking(int fd) {
   int flags = fcntl(fd, F_GETFL, 0);
@@ -147,6 +150,9 @@ void Server::accept_clients() {
     }
     int one = 1;
     setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    if (int sndbuf = int(node_.options().socket_send_bytes); sndbuf > 0) {
+      setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof sndbuf);
+    }
     uint32_t index = 0;
     while (index < clients_.size() && clients_[index].state != State::Free) ++index;
     if (index == clients_.size()) {
@@ -170,6 +176,9 @@ void Server::accept_clients() {
     c.peer = peer;
     c.peer_len = len;
     c.udp_port = 0;
+    // Sized now, so that serving the client allocates nothing later.
+    c.out.reserve(node_.options().client_queue_bytes);
+    c.partial.reserve(kPartialReserve);
     if (size_t(fd) >= client_of_fd_.size()) client_of_fd_.resize(size_t(fd) + 1, 0);
     client_of_fd_[size_t(fd)] = index + 1;
     node_.loop().watch(fd, EPOLLIN, this);
@@ -340,12 +349,14 @@ bool Server::send_reliable(uint32_t client, std::span<const uint8_t> frame) {
   if (client >= clients_.size() || clients_[client].state == State::Free) return false;
   Client& c = clients_[client];
   size_t queued = c.out.size() - c.out_head;
-  if (queued > node_.options().client_queue_bytes) {
+  if (queued > 0 && queued + frame.size() > node_.options().client_queue_bytes) {
     log_warn("client %u does not read its replies (%zu bytes queued); disconnecting", client, queued);
     close_client(client);
     return false;
   }
-  if (c.out_head > 0 && c.out_head >= c.out.size() / 2) {
+  // Stay inside the capacity reserved at accept: compact before growing. Only
+  // a single frame larger than the whole queue (a huge device list) grows it.
+  if (c.out_head > 0 && c.out.size() + frame.size() > c.out.capacity()) {
     c.out.erase(c.out.begin(), c.out.begin() + long(c.out_head));
     c.out_head = 0;
   }

@@ -1,0 +1,155 @@
+// Request/reply round trip through a node, against a raw TCP echo of the same
+// bytes in the same run. Prints medians, p99 and the ratio to the echo.
+//
+//   build/host-release/tests/bench/runtime/bench_rtt [ROUND_TRIPS] [REPEATS]
+//
+// Three paths, each a separate process pair on loopback:
+//   echo        a blocking server that sends every frame straight back
+//   node        troupe-node's loop: verify, route, the kinematic driver's
+//               reply, the Ack (client: a blocking socket, like the echo's)
+//   node+client the same through the C++ client library (poll, verify)
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "drivers/kinematic/kinematic.h"
+#include "runtime/node.h"
+#include "tests/bench/runtime/bench_util.h"
+#include "wire/client/client.h"
+#include "wire/writer.h"
+
+using namespace troupe;
+
+namespace {
+
+const wire::Address kBase(0, uint16_t(wire::Interface::Position2d), 0);
+constexpr uint8_t kResetOdometry = uint8_t(wire::Position2dReqSub::ResetOdometry);
+
+void serve_echo(const std::function<void(uint16_t)>& report) {
+  int ls = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(ls, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  listen(ls, 4);
+  socklen_t len = sizeof a;
+  getsockname(ls, reinterpret_cast<sockaddr*>(&a), &len);
+  report(ntohs(a.sin_port));
+  for (;;) {
+    int fd = accept(ls, nullptr, nullptr);
+    int one = 1;
+    setsockopt(fd, IPPROTO_TCP, 1 /*TCP_NODELAY*/, &one, sizeof one);
+    std::vector<uint8_t> frame;
+    while (bench::read_frame(fd, frame) && bench::write_all(fd, frame)) {
+    }
+    close(fd);
+  }
+}
+
+void serve_node(const std::function<void(uint16_t)>& report) {
+  Node::Options o;
+  o.port = 0;
+  Node node(o);
+  auto* driver = new drivers::kinematic::Kinematic;
+  DeviceId ids[1] = {node.add_device(kBase, driver, "kinematic")};
+  DriverSetup setup;
+  setup.provides = ids;
+  std::string error;
+  if (!node.add_driver(std::unique_ptr<Driver>(driver), setup, error) || !node.start(error)) {
+    fprintf(stderr, "bench_rtt: %s\n", error.c_str());
+    report(0);
+    return;
+  }
+  report(node.port());
+  node.run();
+}
+
+std::vector<uint8_t> request_frame(uint32_t seq) {
+  wire::MessageWriter w;
+  auto f = w.empty(wire::make_header(kBase, wire::Kind::Request, kResetOdometry, seq, 0));
+  return {f.begin(), f.end()};
+}
+
+// Round trips of one frame through a blocking socket, us each.
+std::vector<double> raw_round_trips(int fd, int count) {
+  std::vector<double> out;
+  std::vector<uint8_t> reply;
+  for (int i = 0; i < count; ++i) {
+    auto frame = request_frame(uint32_t(i + 1));
+    double t0 = bench::monotonic_seconds();
+    bench::write_all(fd, frame);
+    // Nothing is opened, so the node's reply is the first frame back, as
+    // the echo's is.
+    bench::read_frame(fd, reply);
+    out.push_back((bench::monotonic_seconds() - t0) * 1e6);
+  }
+  return out;
+}
+
+std::vector<double> client_round_trips(client::Client& c, int count) {
+  std::vector<double> out;
+  for (int i = 0; i < count; ++i) {
+    double t0 = bench::monotonic_seconds();
+    client::Reply r = c.request(kBase, kResetOdometry);
+    out.push_back((bench::monotonic_seconds() - t0) * 1e6);
+    if (!r.ok()) {
+      fprintf(stderr, "bench_rtt: request failed: %s\n", r.text.c_str());
+      exit(1);
+    }
+  }
+  return out;
+}
+
+struct Path {
+  const char* name;
+  std::vector<double> all;       // every sample, us
+  std::vector<double> medians;   // one per repeat, us
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int count = argc > 1 ? atoi(argv[1]) : 5000;
+  int repeats = argc > 2 ? atoi(argv[2]) : 5;
+  uint16_t echo_port = 0, node_port = 0;
+  pid_t echo = bench::spawn_server(serve_echo, echo_port);
+  pid_t node = bench::spawn_server(serve_node, node_port);
+  if (echo_port == 0 || node_port == 0) return 1;
+  int echo_fd = bench::connect_loopback(echo_port);
+  int node_fd = bench::connect_loopback(node_port);
+  std::vector<uint8_t> hello;
+  bench::read_frame(node_fd, hello);  // the node speaks first
+  client::Client c("127.0.0.1", node_port);
+  if (echo_fd < 0 || node_fd < 0 || !c.connect()) return 1;
+
+  Path paths[3] = {{"raw TCP echo (baseline)", {}, {}}, {"troupe-node", {}, {}}, {"troupe-node, C++ client", {}, {}}};
+  // Warm up every path, then interleave the repeats so that machine noise
+  // falls on all of them alike.
+  raw_round_trips(echo_fd, 500);
+  raw_round_trips(node_fd, 500);
+  client_round_trips(c, 500);
+  for (int r = 0; r < repeats; ++r) {
+    std::vector<double> samples[3] = {raw_round_trips(echo_fd, count), raw_round_trips(node_fd, count),
+                                      client_round_trips(c, count)};
+    for (int p = 0; p < 3; ++p) {
+      paths[p].all.insert(paths[p].all.end(), samples[p].begin(), samples[p].end());
+      paths[p].medians.push_back(bench::percentile(samples[p], 50));
+    }
+  }
+  double base = bench::percentile(paths[0].medians, 50);
+  printf("Request/reply round trip on loopback, %d round trips x %d repeats (frame of %zu bytes each way)\n\n", count,
+         repeats, request_frame(1).size());
+  printf("| path | median (us) | p99 (us) | median / echo |\n|---|---:|---:|---:|\n");
+  for (Path& p : paths) {
+    double med = bench::percentile(p.medians, 50);
+    printf("| %s | %.1f | %.1f | %.2f |\n", p.name, med, bench::percentile(p.all, 99), med / base);
+  }
+  close(echo_fd);
+  close(node_fd);
+  bench::stop_server(echo);
+  bench::stop_server(node);
+  return 0;
+}

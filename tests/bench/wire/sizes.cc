@@ -1,0 +1,132 @@
+#include "tests/bench/wire/sizes.h"
+
+#include <algorithm>
+
+#include "wire/writer.h"
+
+namespace troupe::wire::sizes {
+namespace {
+
+constexpr size_t kPlayerHeader = 40;  // host, robot, interf, index, type, subtype (4 each), double time, seq, size
+size_t pad4(size_t n) { return (n + 3) / 4 * 4; }
+
+Address at(Interface i) { return Address(0, uint16_t(i), 0); }
+
+template <typename Build>
+size_t framed(Interface iface, Body type, Build build) {
+  MessageWriter w;
+  auto& b = w.start();
+  auto body = build(b);
+  return w.finish(make_header(at(iface), Kind::Data, 1, 123456, 1700000000000000ull), type, body.Union()).size();
+}
+
+std::string n(size_t v) { return std::to_string(v); }
+
+}  // namespace
+
+std::vector<Row> rows() {
+  std::vector<Row> out;
+  Pose2d pose(1.25f, -3.5f, 0.7f), vel(0.3f, 0, 0.2f);
+
+  out.push_back({"position2d", "pose, velocity, stall", kPlayerHeader + 24 + 24 + 4, "40 + pose 3x8 + vel 3x8 + stall 4",
+                 framed(Interface::Position2d, Body::Position2dState,
+                        [&](auto& b) { return CreatePosition2dState(b, &pose, &vel, false); }),
+                 false});
+
+  for (size_t beams : {16, 181, 361}) {
+    bool laser = beams > 16;
+    out.push_back({"ranger", laser ? n(beams) + "-beam laser scan" : n(beams) + " sonar ranges",
+                   kPlayerHeader + 4 + 4 + 8 * beams, "40 + count 4 + array count 4 + " + n(beams) + " doubles",
+                   framed(Interface::Ranger, Body::RangerScan,
+                          [&](auto& b) {
+                            std::vector<uint16_t> r(beams);
+                            for (size_t i = 0; i < beams; ++i) r[i] = uint16_t(500 + 37 * i % 7000);
+                            auto v = b.CreateVector(r);
+                            return laser ? CreateRangerScan(b, v, 0.001f, -1.5708f, 3.14159f / float(beams - 1), 8.0f)
+                                         : CreateRangerScan(b, v, 0.001f, 0, 0, 5.0f);
+                          }),
+                   true});
+  }
+
+  out.push_back({"power", "volts", kPlayerHeader + 24, "40 + valid, volts, percent, joules, watts, charging 6x4",
+                 framed(Interface::Power, Body::PowerState, [&](auto& b) {
+                   PowerStateBuilder p(b);
+                   p.add_volts(12.6f);
+                   return p.Finish();
+                 }),
+                 false});
+  out.push_back({"power", "volts, percent, charging", kPlayerHeader + 24, "(same)",
+                 framed(Interface::Power, Body::PowerState, [&](auto& b) {
+                   PowerStateBuilder p(b);
+                   p.add_volts(12.6f);
+                   p.add_percent(80);
+                   p.add_charging(false);
+                   return p.Finish();
+                 }),
+                 false});
+
+  out.push_back({"bumper", "10 bumpers", kPlayerHeader + 4 + 4 + pad4(10), "40 + count 4 + bytes 4 + 10 padded to 12",
+                 framed(Interface::Bumper, Body::BumperState, [&](auto& b) { return CreateBumperState(b, 0x12, 10); }),
+                 false});
+
+  out.push_back({"actuator", "gripper state (Player gripper)", kPlayerHeader + 12, "40 + state 4 + beams 4 + stored 4",
+                 framed(Interface::Actuator, Body::ActuatorState,
+                        [&](auto& b) { return CreateActuatorState(b, ActuatorMode::Closed, 0.02f, 3, 1); }),
+                 false});
+
+  Vec3 g(0.01f, -0.02f, 0.3f), a(0.1f, 0.05f, 9.81f), o(0.01f, 0.02f, 1.2f);
+  out.push_back({"imu", "gyro, accel (Player calib)", kPlayerHeader + 36, "40 + accel, gyro, magn 9x4",
+                 framed(Interface::Imu, Body::ImuState, [&](auto& b) { return CreateImuState(b, &g, &a); }), false});
+  out.push_back({"imu", "gyro, accel, roll/pitch/yaw (Player euler)", kPlayerHeader + 36 + 12,
+                 "40 + calib 9x4 + orientation 3x4",
+                 framed(Interface::Imu, Body::ImuState, [&](auto& b) { return CreateImuState(b, &g, &a, &o); }),
+                 false});
+
+  for (size_t count : {1, 4, 16}) {
+    out.push_back({"blobfinder", n(count) + (count == 1 ? " blob" : " blobs"), kPlayerHeader + 12 + 4 + 40 * count,
+                   "40 + width, height, count 12 + array count 4 + " + n(count) + " x 40",
+                   framed(Interface::Blobfinder, Body::BlobList,
+                          [&](auto& b) {
+                            std::vector<Blob> blobs(count, Blob(0xff8000, 420, 40, 30, 30, 50, 20, 40, 2300, 1));
+                            return CreateBlobList(b, b.CreateVectorOfStructs(blobs), 80, 60);
+                          }),
+                   true});
+  }
+  for (size_t count : {1, 4, 16}) {
+    out.push_back({"fiducial", n(count) + (count == 1 ? " landmark" : " landmarks"),
+                   kPlayerHeader + 4 + 4 + 100 * count,
+                   "40 + count 4 + array count 4 + " + n(count) + " x (id 4 + pose 6x8 + uncertainty 6x8)",
+                   framed(Interface::Fiducial, Body::FiducialList,
+                          [&](auto& b) {
+                            std::vector<Fiducial> f(count, Fiducial(7, 2.5f, -0.4f, 0.3f));
+                            return CreateFiducialList(b, b.CreateVectorOfStructs(f));
+                          }),
+                   true});
+  }
+  for (size_t count : {1, 4, 16}) {
+    out.push_back({"localize", n(count) + (count == 1 ? " hypothesis" : " hypotheses"),
+                   kPlayerHeader + 4 + 8 + 4 + 4 + 80 * count,
+                   "40 + pending 4 + time 8 + count 4 + array count 4 + " + n(count) + " x (mean 3x8 + cov 6x8 + weight 8)",
+                   framed(Interface::Localize, Body::LocalizeState,
+                          [&](auto& b) {
+                            std::vector<Hypothesis> h(count, Hypothesis(pose, Cov2d(0.01f, 0, 0, 0.01f, 0, 0.003f),
+                                                                        1.0f / float(count)));
+                            return CreateLocalizeState(b, b.CreateVectorOfStructs(h));
+                          }),
+                   true});
+  }
+  for (size_t side : {64, 256}) {
+    size_t cells = side * side;
+    out.push_back({"map", n(side) + "x" + n(side) + " tile", kPlayerHeader + 20 + 4 + 4 + pad4(cells),
+                   "40 + col, row, width, height, count 5x4 + range 4 + bytes 4 + " + n(cells) + " cells x 1",
+                   framed(Interface::Map, Body::MapTile,
+                          [&](auto& b) {
+                            std::vector<uint8_t> packed((cells + 3) / 4, 0x41);
+                            return CreateMapTile(b, 0, 0, uint32_t(side), uint32_t(side), b.CreateVector(packed));
+                          }),
+                   true});
+  }
+  return out;
+}
+
+}  // namespace troupe::wire::sizes

@@ -1,0 +1,191 @@
+// The quick start, as a user runs it: troupe-node serving the kinematic
+// example, driven and watched with the troupe CLI, as separate processes.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+extern char** environ;
+
+namespace {
+
+const std::string kBin = TROUPE_BINARY_DIR;
+const std::string kNode = kBin + "/runtime/troupe-node";
+const std::string kTroupe = kBin + "/wire/cli/troupe";
+const std::string kExample = std::string(TROUPE_SOURCE_DIR) + "/examples/nodes/kinematic.json";
+
+struct Result {
+  int rc = -1;
+  std::string out, err;
+};
+
+Result run(const std::string& command) {
+  char err_path[] = "/tmp/troupe-cli-err-XXXXXX";
+  int fd = mkstemp(err_path);
+  close(fd);
+  Result r;
+  FILE* p = popen((command + " 2>" + err_path).c_str(), "r");
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  int status = pclose(p);
+  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(err_path);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  r.err = ss.str();
+  unlink(err_path);
+  return r;
+}
+
+uint16_t free_port() {
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  close(s);
+  return ntohs(a.sin_port);
+}
+
+bool listening(uint16_t port) {
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bool ok = connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+  close(s);
+  return ok;
+}
+
+// The first pose x in an echo line "... pose=X,Y,A ...".
+double pose_x(const std::string& line) {
+  size_t at = line.find("pose=");
+  return at == std::string::npos ? -1e9 : std::stod(line.substr(at + 5));
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    port_ = free_port();
+    host_ = "127.0.0.1:" + std::to_string(port_);
+    std::string port = std::to_string(port_);
+    const char* argv[] = {kNode.c_str(), kExample.c_str(), "--port", port.c_str(), nullptr};
+    ASSERT_EQ(posix_spawn(&pid_, kNode.c_str(), nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    for (int i = 0; i < 500 && !listening(port_); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_TRUE(listening(port_)) << "troupe-node did not start";
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      int status = 0;
+      waitpid(pid_, &status, 0);
+      EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "troupe-node did not stop cleanly";
+    }
+  }
+  Result troupe(const std::string& args) { return run(kTroupe + " " + args); }
+
+  pid_t pid_ = -1;
+  uint16_t port_ = 0;
+  std::string host_;
+};
+
+TEST_F(Cli, LsListsTheKinematicBase) {
+  Result r = troupe("ls " + host_);
+  EXPECT_EQ(r.rc, 0) << r.err;
+  EXPECT_EQ(r.out, "position2d:0\tkinematic\n");
+}
+
+TEST_F(Cli, VelCommandMakesTheEchoedPoseChange) {
+  Result before = troupe("echo " + host_ + " position2d:0 --count 1");
+  ASSERT_EQ(before.rc, 0) << before.err;
+  EXPECT_NEAR(pose_x(before.out), 0.0, 1e-6);
+  Result cmd = troupe("cmd " + host_ + " position2d:0 vel 0.5 0 0");
+  ASSERT_EQ(cmd.rc, 0) << cmd.err;
+  EXPECT_EQ(cmd.out, "");
+  // The base accelerates at 0.5 m/s^2 (the example's limit): after about a
+  // second it has moved; echo until it shows.
+  double x = 0;
+  for (int i = 0; i < 100 && x <= 0.05; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    Result after = troupe("echo " + host_ + " position2d:0 --count 1");
+    ASSERT_EQ(after.rc, 0) << after.err;
+    x = pose_x(after.out);
+  }
+  EXPECT_GT(x, 0.05);
+  Result json = troupe("echo " + host_ + " position2d:0 --count 2 --json");
+  ASSERT_EQ(json.rc, 0);
+  EXPECT_EQ(std::count(json.out.begin(), json.out.end(), '\n'), 2);
+  EXPECT_NE(json.out.find("\"body_type\": \"Position2dState\""), std::string::npos) << json.out;
+}
+
+TEST_F(Cli, RequestsPrintTheirReply) {
+  Result geo = troupe("req " + host_ + " position2d:0 geometry --json");
+  ASSERT_EQ(geo.rc, 0) << geo.err;
+  EXPECT_NE(geo.out.find("\"size\""), std::string::npos) << geo.out;
+  Result reset = troupe("req " + host_ + " position2d:0 resetodom");
+  EXPECT_EQ(reset.rc, 0) << reset.err;
+  EXPECT_EQ(reset.out, "ok\n");
+}
+
+TEST_F(Cli, ErrorsAreOneLineAndNonZero) {
+  auto one_line = [](const Result& r) { return std::count(r.err.begin(), r.err.end(), '\n') == 1; };
+  Result no_device = troupe("echo " + host_ + " ranger:0 --count 1");
+  EXPECT_EQ(no_device.rc, 1);
+  EXPECT_NE(no_device.err.find("no such device ranger:0"), std::string::npos) << no_device.err;
+  EXPECT_TRUE(one_line(no_device)) << no_device.err;
+  Result no_host = troupe("ls no-such-host.invalid");
+  EXPECT_EQ(no_host.rc, 1);
+  EXPECT_NE(no_host.err.find("cannot resolve host"), std::string::npos) << no_host.err;
+  EXPECT_TRUE(one_line(no_host));
+  Result refused = troupe("ls 127.0.0.1:" + std::to_string(free_port()));
+  EXPECT_EQ(refused.rc, 1);
+  EXPECT_NE(refused.err.find("Connection refused"), std::string::npos) << refused.err;
+  EXPECT_TRUE(one_line(refused));
+  Result bad_verb = troupe("cmd " + host_ + " position2d:0 fly");
+  EXPECT_EQ(bad_verb.rc, 2);
+  EXPECT_NE(bad_verb.err.find("it has: vel, goto"), std::string::npos) << bad_verb.err;
+  EXPECT_TRUE(one_line(bad_verb));
+  Result bad_args = troupe("cmd " + host_ + " position2d:0 vel fast 0 0");
+  EXPECT_EQ(bad_args.rc, 2);
+  EXPECT_TRUE(one_line(bad_args));
+  Result bad_addr = troupe("echo " + host_ + " laser:0");
+  EXPECT_EQ(bad_addr.rc, 1);
+  EXPECT_NE(bad_addr.err.find("unknown interface 'laser'"), std::string::npos) << bad_addr.err;
+  Result unknown = troupe("frobnicate");
+  EXPECT_EQ(unknown.rc, 2);
+  EXPECT_NE(unknown.err.find("unknown command 'frobnicate'"), std::string::npos) << unknown.err;
+}
+
+TEST(CliNode, BadConfigNamesTheKeyAndNothingStarts) {
+  char dir[] = "/tmp/troupe-cli-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  std::string path = std::string(dir) + "/bad.json";
+  uint16_t port = free_port();
+  std::ofstream(path) << "{ \"port\": " << port
+                      << ", \"drivers\": [ { \"driver_type\": \"kinematic\", \"driver\": { \"max_speeed\": 1 },"
+                         " \"provides\": [\"position2d:0\"] } ] }";
+  Result r = run(kNode + " " + path);
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.err.find("bad.json:1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown field: max_speeed"), std::string::npos) << r.err;
+  EXPECT_FALSE(listening(port));
+  unlink(path.c_str());
+  rmdir(dir);
+}
+
+}  // namespace

@@ -1,0 +1,48 @@
+// Shared pieces of the troupe command-line tool.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "wire/client/client.h"
+
+namespace troupe::cli {
+
+/// Exit codes: 0 ok, 1 a runtime failure (no host, no device, refused),
+/// 2 bad usage.
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+/// Prints "troupe: <message>" to stderr and returns kExitFailure.
+int fail(const std::string& message);
+/// Prints "troupe <cmd>: <message> (see: troupe help <cmd>)", one line, and
+/// returns kExitUsage.
+int usage_error(std::string_view command, const std::string& message);
+
+/// Parses "HOST[:PORT]" and connects; on failure prints one line and returns
+/// nullptr. `reconnect`: keep trying after a lost connection (echo, teleop).
+std::unique_ptr<client::Client> connect(const std::string& host_port, bool reconnect = false);
+/// Resolves "[ROBOT/]INTERFACE:INDEX" on the connected node; prints on failure.
+bool resolve(client::Client& c, const std::string& spec, wire::Address& out);
+
+/// One line describing a message: "t=12.345678 seq=7 pose=... vel=...".
+std::string summary(const wire::Message& msg);
+/// The message as one line of JSON (field names quoted).
+std::string to_json(const wire::Message& msg);
+/// Only the body, as JSON ("{}" when there is none).
+std::string body_json(const wire::Message& msg);
+
+int cmd_ls(const std::vector<std::string>& args);
+int cmd_echo(const std::vector<std::string>& args);
+int cmd_send(const std::vector<std::string>& args, wire::Kind kind);  // cmd and req
+int cmd_teleop(const std::vector<std::string>& args);
+
+/// The help text of a subcommand (usage, options, examples).
+const char* help_text(std::string_view command);
+/// The verbs of `cmd`/`req` for an interface, a line each with arguments
+/// and units (for help), or comma-separated names only (for errors).
+std::string verb_list(wire::Interface iface, wire::Kind kind, bool names_only = false);
+
+}  // namespace troupe::cli

@@ -1,0 +1,45 @@
+#include <cstdio>
+
+#include "wire/address.h"
+#include "wire/cli/cli.h"
+
+namespace troupe::cli {
+
+int fail(const std::string& message) {
+  fprintf(stderr, "troupe: %s\n", message.c_str());
+  return kExitFailure;
+}
+
+int usage_error(std::string_view command, const std::string& message) {
+  fprintf(stderr, "troupe %.*s: %s (see: troupe help %.*s)\n", int(command.size()), command.data(), message.c_str(),
+          int(command.size()), command.data());
+  return kExitUsage;
+}
+
+std::unique_ptr<client::Client> connect(const std::string& host_port, bool reconnect) {
+  wire::HostPort hp;
+  std::string error;
+  if (!wire::parse_host(host_port, hp, error)) {
+    fail(error);
+    return nullptr;
+  }
+  client::Client::Options options;
+  options.name = "troupe-cli";
+  options.reconnect = reconnect;
+  auto c = std::make_unique<client::Client>(hp.host, hp.port, options);
+  if (!c->connect(3000)) {
+    fail(c->error());
+    return nullptr;
+  }
+  return c;
+}
+
+bool resolve(client::Client& c, const std::string& spec, wire::Address& out) {
+  if (!c.resolve(spec, out)) {
+    fprintf(stderr, "troupe: %s\n", c.error().c_str());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace troupe::cli

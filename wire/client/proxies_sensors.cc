@@ -1,0 +1,108 @@
+// Proxies of sensors: ranger, power, bumper, blobfinder, fiducial, imu.
+#include "wire/client/proxies.h"
+
+namespace troupe::client {
+
+using wire::Interface;
+
+RangerProxy::RangerProxy(Client& client, uint16_t index, uint16_t robot)
+    : RangerProxy(client, address_of(Interface::Ranger, index, robot)) {}
+
+RangerProxy::RangerProxy(Client& client, const wire::Address& addr) : Proxy(client, addr) { attach(); }
+
+void RangerProxy::update(const wire::Message& msg) {
+  const wire::RangerScan* s = msg.body_as_RangerScan();
+  if (s == nullptr) return;
+  ranges_.clear();
+  if (s->ranges()) {
+    ranges_.reserve(s->ranges()->size());
+    for (uint16_t r : *s->ranges()) ranges_.push_back(float(r) * s->scale());
+  }
+  intensities_.clear();
+  if (s->intensities()) intensities_.assign(s->intensities()->begin(), s->intensities()->end());
+  min_angle_ = s->min_angle();
+  angular_res_ = s->angular_res();
+  max_range_ = s->max_range();
+}
+
+bool RangerProxy::geometry(wire::Pose3d& pose, std::vector<wire::Pose3d>& elements) {
+  Reply r = request(uint8_t(wire::RangerReqSub::Geometry));
+  const wire::RangerGeometry* g = r.ok() ? r.message()->body_as_RangerGeometry() : nullptr;
+  if (g == nullptr) return false;
+  if (g->pose()) pose = *g->pose();
+  copy_structs(g->elements(), elements);
+  return true;
+}
+
+bool RangerProxy::set_power(bool on) {
+  auto& b = client().begin();
+  auto body = wire::CreateSwitch(b, on);
+  return request(uint8_t(wire::RangerReqSub::Power), wire::Body::Switch, body.Union()).ok();
+}
+
+PowerProxy::PowerProxy(Client& client, uint16_t index, uint16_t robot)
+    : Proxy(client, address_of(Interface::Power, index, robot)) {
+  attach();
+}
+
+void PowerProxy::update(const wire::Message& msg) {
+  const wire::PowerState* s = msg.body_as_PowerState();
+  if (s == nullptr) return;
+  auto get = [](const flatbuffers::Optional<float>& v) { return v ? std::optional<float>(*v) : std::nullopt; };
+  volts_ = get(s->volts());
+  percent_ = get(s->percent());
+  watts_ = get(s->watts());
+  charging_ = s->charging() ? std::optional<bool>(*s->charging()) : std::nullopt;
+}
+
+BumperProxy::BumperProxy(Client& client, uint16_t index, uint16_t robot)
+    : Proxy(client, address_of(Interface::Bumper, index, robot)) {
+  attach();
+}
+
+void BumperProxy::update(const wire::Message& msg) {
+  if (const wire::BumperState* s = msg.body_as_BumperState()) {
+    bits_ = s->pressed();
+    count_ = s->count();
+  }
+}
+
+BlobfinderProxy::BlobfinderProxy(Client& client, uint16_t index, uint16_t robot)
+    : Proxy(client, address_of(Interface::Blobfinder, index, robot)) {
+  attach();
+}
+
+void BlobfinderProxy::update(const wire::Message& msg) {
+  const wire::BlobList* s = msg.body_as_BlobList();
+  if (s == nullptr) return;
+  copy_structs(s->blobs(), blobs_);
+  width_ = s->width();
+  height_ = s->height();
+}
+
+FiducialProxy::FiducialProxy(Client& client, uint16_t index, uint16_t robot)
+    : Proxy(client, address_of(Interface::Fiducial, index, robot)) {
+  attach();
+}
+
+void FiducialProxy::update(const wire::Message& msg) {
+  const wire::FiducialList* s = msg.body_as_FiducialList();
+  if (s == nullptr) return;
+  copy_structs(s->fiducials(), fiducials_);
+}
+
+ImuProxy::ImuProxy(Client& client, uint16_t index, uint16_t robot)
+    : Proxy(client, address_of(Interface::Imu, index, robot)) {
+  attach();
+}
+
+void ImuProxy::update(const wire::Message& msg) {
+  const wire::ImuState* s = msg.body_as_ImuState();
+  if (s == nullptr) return;
+  auto get = [](const wire::Vec3* v) { return v ? std::optional<wire::Vec3>(*v) : std::nullopt; };
+  gyro_ = get(s->gyro());
+  accel_ = get(s->accel());
+  orientation_ = get(s->orientation());
+}
+
+}  // namespace troupe::client
