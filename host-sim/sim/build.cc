@@ -202,6 +202,10 @@ void Engine::build_robot(const RobotDesc& r) {
       t.noise_prop = float(td.noise_proportional);
       t.noise_angle = float(td.noise_angle);
       t.beam_first = uint32_t(ranges.size());
+      const double a0 = td.pose.a + t.start;
+      t.first_dir = {std::cos(a0), std::sin(a0)};
+      t.incr_rot = {std::cos(double(t.incr)), std::sin(double(t.incr))};
+      rs.any_noise_angle = rs.any_noise_angle || td.noise_angle > 0;
       ranges.insert(ranges.end(), t.samples, t.range_max);
       intensities.insert(intensities.end(), t.samples, 0.0f);
       rs.reach = std::max(rs.reach, std::hypot(td.pose.x, td.pose.y) + td.range_max);

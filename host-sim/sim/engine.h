@@ -59,6 +59,9 @@ struct PowerState {
 struct Transducer {
   Pose pose;                  // robot frame
   float start = 0, incr = 0;  // first beam's bearing and spacing, rad
+  // The first beam's direction in the robot frame, and the rotation from one
+  // beam to the next, so no step calls sin and cos per beam.
+  Vec2 first_dir, incr_rot;
   float range_min = 0, range_max = 5;
   float noise_sd = 0, noise_prop = 0, noise_angle = 0;
   uint32_t samples = 1;
@@ -71,6 +74,7 @@ struct RangerState {
   uint32_t beam_first = 0, beam_count = 0;
   double reach = 0;  // m from the robot's pose to the farthest beam end
   bool wanted = false;
+  bool any_noise_angle = false;
   uint64_t step = UINT64_MAX;
 };
 

@@ -14,7 +14,8 @@ using world::Property;
 void Loader::robot(const Entity& e, WorldDesc& out) {
   ModelCommon c = common(e, ModelKind::Position);
   RobotDesc r;
-  r.name = c.name.empty() ? "r" + std::to_string(out.robots.size()) : c.name;
+  r.name = c.name;
+  if (r.name.empty()) r.name.append("r").append(std::to_string(out.robots.size()));
   r.pose = c.pose;
   r.size = c.size;
   r.look = c.look;

@@ -43,8 +43,14 @@ const StaticInfo* Engine::static_at(Vec2 p) const {
 }
 
 void Engine::update_rangers() {
-  for (uint32_t r = 0; r < rangers.size(); ++r) {
-    if (rangers[r].wanted) update_ranger(r);
+  // Robot by robot in the hash's cell order, so consecutive rays read
+  // nearby parts of the grid (a large map does not fit in cache). Each
+  // ranger's result depends only on the world, not on this order.
+  for (uint32_t robot : hash.order()) {
+    const IndexRange r = info[robot].rangers;
+    for (uint32_t k = r.first; k < r.first + r.count; ++k) {
+      if (rangers[k].wanted) update_ranger(k);
+    }
   }
 }
 
@@ -57,28 +63,30 @@ void Engine::update_ranger(uint32_t index) {
   const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), index, steps);
   const uint64_t angle_stream = Random::stream(uint64_t(RandomKind::RangerAngle), index, steps);
 
-  // Every beam of the ranger, cast through the grid together.
+  // Every beam of the ranger, cast through the grid together. Directions
+  // are the robot-frame ones turned by the robot's heading.
   ray_queries.clear();
   transducer_poses.clear();
+  const double hc = std::cos(self.pose.a), hs = std::sin(self.pose.a);
+  auto turn = [hc, hs](Vec2 v) { return Vec2{hc * v.x - hs * v.y, hs * v.x + hc * v.y}; };
   for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
     const Transducer& td = transducers[t];
-    const Pose org = compose(self.pose, td.pose);
+    const Vec2 o = Vec2{self.pose.x, self.pose.y} + turn({td.pose.x, td.pose.y});
+    const Pose org{o.x, o.y, self.pose.a + td.pose.a};
     transducer_poses.push_back(org);
-    const double a0 = org.a + td.start;
     if (td.noise_angle > 0) {
+      const double a0 = org.a + td.start;
       for (uint32_t s = 0; s < td.samples; ++s) {
         const double a =
             a0 + td.incr * s + 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
-        ray_queries.push_back({{org.x, org.y}, {std::cos(a), std::sin(a)}, td.range_max});
+        ray_queries.push_back({o, {std::cos(a), std::sin(a)}, td.range_max});
       }
       continue;
     }
-    // Evenly spread beams: rotate the first direction rather than call
-    // sin and cos per beam.
-    Vec2 dir{std::cos(a0), std::sin(a0)};
-    const double c = std::cos(double(td.incr)), sn = std::sin(double(td.incr));
+    Vec2 dir = turn(td.first_dir);
+    const double c = td.incr_rot.x, sn = td.incr_rot.y;
     for (uint32_t s = 0; s < td.samples; ++s) {
-      ray_queries.push_back({{org.x, org.y}, dir, td.range_max});
+      ray_queries.push_back({o, dir, td.range_max});
       dir = {c * dir.x - sn * dir.y, sn * dir.x + c * dir.y};
     }
   }

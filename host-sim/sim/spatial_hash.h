@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "host-sim/sim/geometry.h"
@@ -36,6 +37,10 @@ class SpatialHash {
       for (uint32_t i = begin; i < end; ++i) visit(items_[i]);
     }
   }
+
+  /// Every robot in the hash, cell by cell (row-major): an order in which
+  /// consecutive robots are near each other.
+  std::span<const uint32_t> order() const { return items_; }
 
   double cell_size() const { return cell_; }
   double max_radius() const { return max_radius_; }
