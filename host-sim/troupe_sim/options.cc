@@ -29,6 +29,7 @@ const char* sim_usage() {
          "  --log FILE.csv          trajectory log: time,robot,x,y,a every step\n"
          "  --ctrl-path DIR         where controllers (ctrl \"name\") are looked for\n"
          "  --ignore-missing-ctrl   load anyway; robots whose controller is missing stay idle\n"
+         "  --no-ctrl               run no controllers: every robot waits for clients\n"
          "  --profile               print the time spent in each phase of the step at the end\n"
          "  --log-level LEVEL       error, warn, info (default) or debug\n"
          "\n"
@@ -86,6 +87,8 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
       out.serve = false;
     } else if (a == "--ignore-missing-ctrl") {
       out.ignore_missing_ctrl = true;
+    } else if (a == "--no-ctrl") {
+      out.no_ctrl = true;
     } else if (a == "--profile") {
       out.profile = true;
     } else if (a == "--speed") {

@@ -30,6 +30,8 @@ struct SimOptions {
   std::string log;            // trajectory CSV
   std::vector<std::string> ctrl_path;
   bool ignore_missing_ctrl = false;
+  /// Run no in-process controllers (the robots are driven over the wire).
+  bool no_ctrl = false;
   bool profile = false;  // print the time per phase at the end
   std::string log_level = "info";
 };

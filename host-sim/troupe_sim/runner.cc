@@ -45,7 +45,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   copts.search_path.push_back(TROUPE_CONTROLLER_DIR);
 #endif
   copts.ignore_missing = options.ignore_missing_ctrl;
-  if (!controllers_.load(*world_, copts, diags)) return false;
+  if (!options.no_ctrl && !controllers_.load(*world_, copts, diags)) return false;
 
   const WorldDesc& d = world_->desc();
   control_.paused = options.paused || d.paused;

@@ -3,13 +3,17 @@
 namespace troupe::world {
 
 std::string SourceLoc::str() const {
+  // Appended piece by piece: GCC 12 at -O3 warns falsely (-Wrestrict) about
+  // "literal" + std::string temporaries.
   std::string s = file ? *file : std::string("<no file>");
-  if (line > 0) s += ":" + std::to_string(line);
+  if (line > 0) s.append(":").append(std::to_string(line));
   return s;
 }
 
 std::string Diagnostic::str() const {
-  return loc.str() + (severity == Severity::Error ? ": error: " : ": warning: ") + message;
+  std::string s = loc.str();
+  s.append(severity == Severity::Error ? ": error: " : ": warning: ").append(message);
+  return s;
 }
 
 void Diagnostics::warn(const SourceLoc& loc, std::string message) {
