@@ -94,6 +94,7 @@ void Engine::build() {
   hash.reset(lo, hi, std::max({0.5, 4 * max_radius, std::sqrt(area / 4e6)}));
   hash_centres.resize(bodies.size());
   hash_radii.resize(bodies.size());
+  hash_flags.resize(bodies.size());
   accept.resize(bodies.size());
   publish_states();
   broadphase();  // sensors may run before the first step
@@ -188,8 +189,9 @@ void Engine::build_robot(const RobotDesc& r) {
   for (const RangerDesc& rd : r.rangers) {
     RangerState rs;
     rs.robot = id;
-    rs.transducer_first = uint32_t(transducers.size());
     rs.beam_first = uint32_t(ranges.size());
+    std::vector<Transducer> ts;
+    uint32_t beams = 0;
     for (const TransducerDesc& td : rd.transducers) {
       Transducer t;
       t.pose = td.pose;
@@ -201,21 +203,47 @@ void Engine::build_robot(const RobotDesc& r) {
       t.noise_sd = float(std::sqrt(std::max(0.0, td.noise_variance)));
       t.noise_prop = float(td.noise_proportional);
       t.noise_angle = float(td.noise_angle);
-      t.beam_first = uint32_t(ranges.size());
+      t.beam_offset = beams;
       const double a0 = td.pose.a + t.start;
       t.first_dir = {std::cos(a0), std::sin(a0)};
       t.incr_rot = {std::cos(double(t.incr)), std::sin(double(t.incr))};
-      rs.any_noise_angle = rs.any_noise_angle || td.noise_angle > 0;
-      ranges.insert(ranges.end(), t.samples, t.range_max);
-      intensities.insert(intensities.end(), t.samples, 0.0f);
+      beams += t.samples;
       rs.reach = std::max(rs.reach, std::hypot(td.pose.x, td.pose.y) + td.range_max);
-      transducers.push_back(t);
+      ts.push_back(t);
     }
-    rs.transducer_count = uint32_t(transducers.size()) - rs.transducer_first;
-    rs.beam_count = uint32_t(ranges.size()) - rs.beam_first;
+    rs.beam_count = beams;
+    ranges.insert(ranges.end(), beams, 0.0f);
+    intensities.insert(intensities.end(), beams, 0.0f);
+    for (const Transducer& t : ts) {
+      std::fill(ranges.begin() + rs.beam_first + t.beam_offset,
+                ranges.begin() + rs.beam_first + t.beam_offset + t.samples, t.range_max);
+    }
+    // The same transducers as an earlier ranger: share them.
+    auto same = [](const Transducer& a, const Transducer& c) {
+      return a.pose.x == c.pose.x && a.pose.y == c.pose.y && a.pose.a == c.pose.a && a.start == c.start &&
+             a.incr == c.incr && a.range_min == c.range_min && a.range_max == c.range_max &&
+             a.noise_sd == c.noise_sd && a.noise_prop == c.noise_prop && a.noise_angle == c.noise_angle &&
+             a.samples == c.samples;
+    };
+    rs.transducer_count = uint32_t(ts.size());
+    rs.transducer_first = uint32_t(transducers.size());
+    for (const IndexRange& set : transducer_sets) {
+      if (set.count != ts.size()) continue;
+      bool equal = true;
+      for (size_t m = 0; m < ts.size() && equal; ++m) equal = same(transducers[set.first + m], ts[m]);
+      if (equal) {
+        rs.transducer_first = set.first;
+        break;
+      }
+    }
+    if (rs.transducer_first == transducers.size()) {
+      transducer_sets.push_back({rs.transducer_first, rs.transducer_count});
+      transducers.insert(transducers.end(), ts.begin(), ts.end());
+    }
     rangers.push_back(rs);
   }
   ri.rangers.count = uint32_t(rangers.size()) - ri.rangers.first;
+  robot_rangers.push_back(ri.rangers);
   ri.blobfinders = {uint32_t(blobfinders.size()), uint32_t(r.blobfinders.size())};
   for (size_t k2 = 0; k2 < r.blobfinders.size(); ++k2) blobfinders.push_back({id, false, UINT64_MAX, {}});
   ri.fiducials = {uint32_t(fiducials.size()), uint32_t(r.fiducials.size())};

@@ -34,8 +34,9 @@ void Engine::broadphase() {
     const double half = 0.5 * std::hypot(b.proposed.x - b.pose.x, b.proposed.y - b.pose.y);
     hash_centres[i] = {0.5 * (b.pose.x + b.proposed.x), 0.5 * (b.pose.y + b.proposed.y)};
     hash_radii[i] = b.radius + half;
+    hash_flags[i] = (b.ranger_visible ? kHashRangerVisible : 0u) | (b.obstacle ? kHashObstacle : 0u);
   }
-  hash.build(hash_centres, hash_radii);
+  hash.build(hash_centres, hash_radii, hash_flags);
 }
 
 bool Engine::hits_static(RobotId i, const Pose& from, const Pose& to) {

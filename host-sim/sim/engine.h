@@ -15,6 +15,10 @@
 
 namespace troupe::sim {
 
+// Flag bits of robots in the spatial hash.
+inline constexpr uint32_t kHashRangerVisible = 1;
+inline constexpr uint32_t kHashObstacle = 2;
+
 struct PolyRef {
   uint32_t first = 0, count = 0;  // into Engine::verts
 };
@@ -65,11 +69,13 @@ struct Transducer {
   float range_min = 0, range_max = 5;
   float noise_sd = 0, noise_prop = 0, noise_angle = 0;
   uint32_t samples = 1;
-  uint32_t beam_first = 0;  // into Engine::ranges
+  uint32_t beam_offset = 0;  // first beam's place among its ranger's beams
 };
 
 struct RangerState {
   RobotId robot = 0;
+  // Robots with the same ranger share its transducers (a swarm of identical
+  // robots reads one small array, which stays in cache).
   uint32_t transducer_first = 0, transducer_count = 0;
   uint32_t beam_first = 0, beam_count = 0;
   double reach = 0;  // m from the robot's pose to the farthest beam end
@@ -153,6 +159,7 @@ struct Engine {
   uint64_t steps = 0;
 
   std::vector<RobotInfo> info;
+  std::vector<IndexRange> robot_rangers;  // info[i].rangers, compact for the sensor loop
   std::vector<Body> bodies;
   std::vector<Kinematics> kinematics;
   std::vector<Odometry> odom;
@@ -162,6 +169,7 @@ struct Engine {
   std::vector<PolyRef> polys;
 
   std::vector<Transducer> transducers;
+  std::vector<IndexRange> transducer_sets;  // the distinct transducer arrays
   std::vector<RangerState> rangers;
   std::vector<float> ranges, intensities;
   std::vector<BlobState> blobfinders;
@@ -172,8 +180,14 @@ struct Engine {
   // Scratch, reused every step so the step does not allocate.
   std::vector<Vec2> hash_centres;
   std::vector<double> hash_radii;
+  std::vector<uint32_t> hash_flags;
   std::vector<uint8_t> accept;
   std::vector<uint32_t> candidates;
+  struct Candidate {
+    uint32_t index;
+    double x, y, r;  // a circle holding the robot this step, m
+  };
+  std::vector<Candidate> ranger_candidates;
   std::vector<RayQuery> ray_queries;
   std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;

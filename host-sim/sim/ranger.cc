@@ -46,8 +46,8 @@ void Engine::update_rangers() {
   // Robot by robot in the hash's cell order, so consecutive rays read
   // nearby parts of the grid (a large map does not fit in cache). Each
   // ranger's result depends only on the world, not on this order.
-  for (uint32_t robot : hash.order()) {
-    const IndexRange r = info[robot].rangers;
+  for (const SpatialHash::Item& item : hash.order()) {
+    const IndexRange r = robot_rangers[item.index];
     for (uint32_t k = r.first; k < r.first + r.count; ++k) {
       if (rangers[k].wanted) update_ranger(k);
     }
@@ -78,7 +78,7 @@ void Engine::update_ranger(uint32_t index) {
       const double a0 = org.a + td.start;
       for (uint32_t s = 0; s < td.samples; ++s) {
         const double a =
-            a0 + td.incr * s + 0.5 * td.noise_angle * random.symmetric(angle_stream, td.beam_first + s);
+            a0 + td.incr * s + 0.5 * td.noise_angle * random.symmetric(angle_stream, rs.beam_first + td.beam_offset + s);
         ray_queries.push_back({o, {std::cos(a), std::sin(a)}, td.range_max});
       }
       continue;
@@ -107,33 +107,33 @@ void Engine::update_ranger(uint32_t index) {
 
   // Robots that may cross a beam, tested only on the beams they can cross
   // and only where they could be nearer than what the beam already hit.
-  candidates.clear();
-  hash.query({self.pose.x, self.pose.y}, rs.reach, [&](uint32_t j) {
-    if (j == rs.robot || !bodies[j].ranger_visible) return;
-    const Body& o = bodies[j];
-    if (std::hypot(o.pose.x - self.pose.x, o.pose.y - self.pose.y) <= rs.reach + o.radius)
-      candidates.push_back(j);
+  // From the hash's copies of the robots' circles (which hold each robot
+  // over this step's move): no robot data is touched to filter.
+  ranger_candidates.clear();
+  const double sx = self.pose.x, sy = self.pose.y;
+  hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
+    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
+    const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
+    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r) ranger_candidates.push_back({it.index, it.x, it.y, r});
   });
-  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count && !candidates.empty();
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty();
        ++t) {
     const Transducer& td = transducers[t];
-    const uint32_t first = td.beam_first - rs.beam_first, n = td.samples;
+    const uint32_t first = td.beam_offset, n = td.samples;
     const Pose& org = transducer_poses[t - rs.transducer_first];
     const Vec2 o{org.x, org.y};
-    for (uint32_t j : candidates) {
-      const Body& ob = bodies[j];
-      const double dx = ob.pose.x - o.x, dy = ob.pose.y - o.y;
+    for (const Candidate& cand : ranger_candidates) {
+      const double dx = cand.x - o.x, dy = cand.y - o.y;
       int lo = 0, hi = int(n) - 1;
       if (n == 1) {
         // One beam: does it pass within the robot's circle, ahead of what it hit?
         const Vec2 d = ray_queries[first].dir;
         const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
-        if (std::fabs(across) > ob.radius || along + ob.radius < 0 || along - ob.radius >= out[first])
-          continue;
+        if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
       } else {
         const double dist = std::hypot(dx, dy);
-        if (dist - ob.radius >= td.range_max) continue;
-        const double half = (dist > ob.radius ? std::asin(ob.radius / dist) : kPi) + 0.5 * td.noise_angle;
+        if (dist - cand.r >= td.range_max) continue;
+        const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
         if (half < kPi && td.incr > 0) {
           const int last = int(n) - 1;
           // Bearing from the first beam; the fan is centred on the heading.
@@ -151,10 +151,10 @@ void Engine::update_ranger(uint32_t index) {
       for (int s = lo; s <= hi; ++s) {
         const RayQuery& q = ray_queries[first + uint32_t(s)];
         float& r = out[first + uint32_t(s)];
-        const double hit = ray_robot(j, q.origin, q.dir);
+        const double hit = ray_robot(cand.index, q.origin, q.dir);
         if (hit >= 0 && hit < r) {
           r = float(hit);
-          inten[first + uint32_t(s)] = float(std::max(0.0, desc.robots[j].look.ranger_return));
+          inten[first + uint32_t(s)] = float(std::max(0.0, desc.robots[cand.index].look.ranger_return));
         }
       }
     }
@@ -163,12 +163,13 @@ void Engine::update_ranger(uint32_t index) {
   // Noise on returns, then the sensor's limits.
   for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
     const Transducer& td = transducers[t];
-    float* r = out + (td.beam_first - rs.beam_first);
+    float* r = out + td.beam_offset;
+    const uint64_t beam = rs.beam_first + td.beam_offset;  // world-wide index: the noise counter
     for (uint32_t s = 0; s < td.samples; ++s) {
       if (r[s] < td.range_max) {
         double v = r[s];
-        if (td.noise_prop > 0) v += v * td.noise_prop * random.symmetric(noise_stream, td.beam_first + s);
-        if (td.noise_sd > 0) v += td.noise_sd * random.gaussian(gauss_stream, td.beam_first + s);
+        if (td.noise_prop > 0) v += v * td.noise_prop * random.symmetric(noise_stream, beam + s);
+        if (td.noise_sd > 0) v += td.noise_sd * random.gaussian(gauss_stream, beam + s);
         r[s] = float(std::clamp(v, double(td.range_min), double(td.range_max)));
       } else {
         r[s] = td.range_max;

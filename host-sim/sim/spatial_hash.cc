@@ -12,7 +12,8 @@ void SpatialHash::reset(Vec2 lo, Vec2 hi, double cell) {
   items_.clear();
 }
 
-void SpatialHash::build(const std::vector<Vec2>& centres, const std::vector<double>& radii) {
+void SpatialHash::build(const std::vector<Vec2>& centres, const std::vector<double>& radii,
+                        const std::vector<uint32_t>& flags) {
   const size_t n = centres.size(), cells = size_t(nx_) * size_t(ny_);
   cell_of_.resize(n);
   std::fill(start_.begin(), start_.end(), 0u);
@@ -37,7 +38,9 @@ void SpatialHash::build(const std::vector<Vec2>& centres, const std::vector<doub
   cursor.assign(start_.begin(), start_.end() - 1);
   for (size_t i = 0; i < n; ++i) {
     uint32_t k = cell_of_[i];
-    if (k < cells) items_[cursor[k]++] = uint32_t(i);
+    if (k < cells) {
+      items_[cursor[k]++] = {uint32_t(i), flags[i], float(centres[i].x), float(centres[i].y), float(radii[i])};
+    }
   }
 }
 

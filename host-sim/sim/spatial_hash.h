@@ -17,17 +17,31 @@ namespace troupe::sim {
 
 class SpatialHash {
  public:
+  /// A robot as the hash holds it: a copy of its circle, so queries that
+  /// only filter by distance never touch the robots' own (scattered) data.
+  struct Item {
+    uint32_t index;  // the robot
+    uint32_t flags;  // the caller's bits (e.g. visible to rangers)
+    float x, y;      // circle centre, m
+    float r;         // circle radius, m
+  };
+
   /// Covers [lo, hi] with square cells of `cell` m.
   void reset(Vec2 lo, Vec2 hi, double cell);
 
-  /// Rebuilds from the robots' centres and radii (m). Radius < 0 leaves a
-  /// robot out.
-  void build(const std::vector<Vec2>& centres, const std::vector<double>& radii);
+  /// Rebuilds from the robots' centres and radii (m) and flag bits. Radius
+  /// < 0 leaves a robot out.
+  void build(const std::vector<Vec2>& centres, const std::vector<double>& radii, const std::vector<uint32_t>& flags);
 
   /// Calls visit(index) for every robot whose circle may touch the circle
   /// (c, r); the caller does the exact test. Each robot at most once.
   template <class Visit>
   void query(Vec2 c, double r, Visit&& visit) const {
+    query_items(c, r, [&](const Item& it) { visit(it.index); });
+  }
+  /// The same, visiting the items (index, flags, circle).
+  template <class Visit>
+  void query_items(Vec2 c, double r, Visit&& visit) const {
     const double reach = r + max_radius_;
     int x0 = cell_x(c.x - reach), x1 = cell_x(c.x + reach);
     int y0 = cell_y(c.y - reach), y1 = cell_y(c.y + reach);
@@ -40,7 +54,7 @@ class SpatialHash {
 
   /// Every robot in the hash, cell by cell (row-major): an order in which
   /// consecutive robots are near each other.
-  std::span<const uint32_t> order() const { return items_; }
+  std::span<const Item> order() const { return items_; }
 
   double cell_size() const { return cell_; }
   double max_radius() const { return max_radius_; }
@@ -59,7 +73,7 @@ class SpatialHash {
   // Cells in row-major order; start_[k]..start_[k+1] indexes items_ for
   // cell k. Rows are contiguous, so a row's span of cells is one range.
   std::vector<uint32_t> start_;
-  std::vector<uint32_t> items_;
+  std::vector<Item> items_;
   std::vector<uint32_t> cell_of_;
   std::vector<uint32_t> scratch_;
 };

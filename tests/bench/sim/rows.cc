@@ -194,7 +194,9 @@ bool row_scale(const Settings& s, Summary& out) {
     floor.bitmap->image = img;
     d.statics.push_back(floor);
     for (size_t i = 0; i < poses.size(); ++i) {
-      d.robots.push_back(ring_robot("r" + std::to_string(i), poses[i], "wander avoid=0.4"));
+      std::string name = "r";  // appended: GCC 12 warns falsely (-Wrestrict) on "r" + std::string
+      name.append(std::to_string(i));
+      d.robots.push_back(ring_robot(name, poses[i], "wander avoid=0.4"));
     }
     World w(d, sim::Random(1));
     ControllerHost host;
