@@ -78,7 +78,8 @@ void Engine::update_ranger(uint32_t index) {
       const double a0 = org.a + td.start;
       for (uint32_t s = 0; s < td.samples; ++s) {
         const double a =
-            a0 + td.incr * s + 0.5 * td.noise_angle * random.symmetric(angle_stream, rs.beam_first + td.beam_offset + s);
+            a0 + td.incr * s +
+            0.5 * td.noise_angle * random.symmetric(angle_stream, rs.beam_first + td.beam_offset + s);
         ray_queries.push_back({o, {std::cos(a), std::sin(a)}, td.range_max});
       }
       continue;
@@ -114,10 +115,11 @@ void Engine::update_ranger(uint32_t index) {
   hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
     if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
     const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
-    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r) ranger_candidates.push_back({it.index, it.x, it.y, r});
+    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
+      ranger_candidates.push_back({it.index, it.x, it.y, r});
   });
-  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty();
-       ++t) {
+  for (uint32_t t = rs.transducer_first;
+       t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
     const Transducer& td = transducers[t];
     const uint32_t first = td.beam_offset, n = td.samples;
     const Pose& org = transducer_poses[t - rs.transducer_first];

@@ -39,7 +39,8 @@ void SpatialHash::build(const std::vector<Vec2>& centres, const std::vector<doub
   for (size_t i = 0; i < n; ++i) {
     uint32_t k = cell_of_[i];
     if (k < cells) {
-      items_[cursor[k]++] = {uint32_t(i), flags[i], float(centres[i].x), float(centres[i].y), float(radii[i])};
+      items_[cursor[k]++] = {uint32_t(i), flags[i], float(centres[i].x), float(centres[i].y),
+                             float(radii[i])};
     }
   }
 }

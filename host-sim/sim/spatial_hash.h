@@ -31,7 +31,8 @@ class SpatialHash {
 
   /// Rebuilds from the robots' centres and radii (m) and flag bits. Radius
   /// < 0 leaves a robot out.
-  void build(const std::vector<Vec2>& centres, const std::vector<double>& radii, const std::vector<uint32_t>& flags);
+  void build(const std::vector<Vec2>& centres, const std::vector<double>& radii,
+             const std::vector<uint32_t>& flags);
 
   /// Calls visit(index) for every robot whose circle may touch the circle
   /// (c, r); the caller does the exact test. Each robot at most once.

@@ -36,7 +36,9 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
   origin_ = lo;
   w_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_res_)));
   h_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_res_)));
-  codes_.assign(size_t(w_) * size_t(h_), kFree);
+  // Four bytes more than the cells: the vector caster reads a cell as the
+  // low byte of a 32-bit load.
+  codes_.assign(size_t(w_) * size_t(h_) + 4, kFree);
 }
 
 void StaticMap::mark(size_t i, bool obstacle, bool visible) {
