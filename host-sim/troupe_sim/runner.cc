@@ -86,6 +86,10 @@ uint16_t Runner::port() const {
   return options_.serve && !nodes_.empty() ? nodes_.front()->port() : 0;
 }
 
+uint16_t Runner::robot_port(RobotId id) const {
+  return options_.serve && options_.port_per_robot && id + 1 < nodes_.size() ? nodes_[id + 1]->port() : 0;
+}
+
 void Runner::serve(int64_t wait_us) {
   for (size_t i = 1; i < nodes_.size(); ++i) nodes_[i]->poll(0);
   nodes_.front()->poll(wait_us);

@@ -35,6 +35,8 @@ class Runner {
 
   /// The bound TCP port of the main server (0 without one).
   uint16_t port() const;
+  /// With --port-per-robot: the port serving robot `id` alone (0 otherwise).
+  uint16_t robot_port(RobotId id) const;
   World& world() { return *world_; }
   Node& node() { return *nodes_.front(); }
 

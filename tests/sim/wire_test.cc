@@ -150,5 +150,45 @@ TEST_F(WireTest, BadRequestsAreRefusedAndTheServerGoesOn) {
   EXPECT_TRUE(sim.step(1));
 }
 
+TEST(WirePortPerRobot, ASingleRobotClientAttachesToItsRobotsPort) {
+  troupe::test::TempDir dir;
+  SimOptions o;
+  o.world = dir.write("w.world", kWorld);
+  o.port = 0;
+  o.paused = true;
+  o.port_per_robot = true;
+  Runner runner;
+  world::Diagnostics d;
+  std::string error;
+  ASSERT_TRUE(runner.init(o, d, error)) << d.str() << error;
+  ASSERT_NE(runner.robot_port(1), 0);
+  std::thread sim([&] { runner.run(); });
+  {
+    // A client that knows nothing of robots: position2d:0 is r1 on its port.
+    client::Client c("127.0.0.1", runner.robot_port(1));
+    ASSERT_TRUE(c.connect()) << c.error();
+    std::vector<client::DeviceEntry> devices;
+    ASSERT_TRUE(c.device_list(devices));
+    ASSERT_EQ(devices.size(), 1u);
+    EXPECT_EQ(devices[0].text(), "r1/position2d:0");
+    EXPECT_EQ(devices[0].addr.robot(), 0);
+    client::Position2dProxy base(c);
+    ASSERT_TRUE(base.set_velocity(0.4, 0, 0));
+    ASSERT_TRUE(c.sync());
+    client::Client main("127.0.0.1", runner.port());
+    ASSERT_TRUE(main.connect()) << main.error();
+    client::SimulationProxy control(main);
+    ASSERT_TRUE(control.step(5));
+    client::Pose2 p;
+    ASSERT_TRUE(control.get_pose("r1", p));
+    EXPECT_NEAR(p.x, -3, 1e-5);  // r1 faces +y: it moved along y
+    EXPECT_NEAR(p.y, 2.2, 1e-4);
+    ASSERT_TRUE(control.get_pose("r0", p));
+    EXPECT_NEAR(p.x, 0, 1e-6);
+  }
+  runner.request_stop();
+  sim.join();
+}
+
 }  // namespace
 }  // namespace troupe::sim
