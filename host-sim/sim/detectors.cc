@@ -37,10 +37,17 @@ void Engine::update_blobfinders() {
     const int w = std::max(1, d.width);
     colors.assign(size_t(w), kNoColor);
     dists.assign(size_t(w), d.range);
+    // The walls for every column at once, then the robots.
+    ray_queries.clear();
     for (int s = 0; s < w; ++s) {
       const double a = at.a + d.pan - d.fov / 2 + d.fov * (s + 0.5) / w;
-      const Vec2 dir{std::cos(a), std::sin(a)};
-      double best = map.cast(o, dir, float(d.range), StaticMap::kAnyMask);
+      ray_queries.push_back({o, {std::cos(a), std::sin(a)}, float(d.range)});
+    }
+    wall_ranges.resize(size_t(w));
+    map.cast_batch(ray_queries, StaticMap::kAnyMask, wall_ranges.data());
+    for (int s = 0; s < w; ++s) {
+      const Vec2 dir = ray_queries[size_t(s)].dir;
+      double best = wall_ranges[size_t(s)];
       uint32_t color = kNoColor;
       if (best < d.range) {
         const StaticInfo* hit = static_at(o + (best + 0.5 * map.resolution()) * dir);

@@ -189,6 +189,7 @@ struct Engine {
   };
   std::vector<Candidate> ranger_candidates;
   std::vector<RayQuery> ray_queries;
+  std::vector<float> wall_ranges;
   std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
