@@ -2,6 +2,7 @@
 # node configs, and builds the client, CLI, simulator and tests too.
 set(BOARD_DRIVERS
   kinematic
+  odrive_can
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

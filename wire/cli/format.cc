@@ -85,6 +85,7 @@ std::string summary(const wire::Message& msg) {
       pose(out, "pose", s->pose());
       pose(out, "vel", s->vel());
       append(out, " stall=%d", int(s->stall()));
+      if (s->fault()) append(out, " fault=\"%s\"", s->fault()->c_str());
       if (auto* c = s->covariance()) {
         append(out, " cov=%.4g,%.4g,%.4g", double(c->xx()), double(c->yy()), double(c->aa()));
       }
