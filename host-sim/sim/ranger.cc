@@ -150,9 +150,13 @@ void Engine::update_ranger(uint32_t index) {
           }
         }
       }
+      // Nearer than this, nothing of the robot is: beams that stopped at a
+      // wall before it cannot see it.
+      const double near = std::hypot(dx, dy) - cand.r;
       for (int s = lo; s <= hi; ++s) {
         const RayQuery& q = ray_queries[first + uint32_t(s)];
         float& r = out[first + uint32_t(s)];
+        if (near >= r) continue;
         const double hit = ray_robot(cand.index, q.origin, q.dir);
         if (hit >= 0 && hit < r) {
           r = float(hit);

@@ -92,7 +92,8 @@ void cast_batch_avx2(const uint8_t* codes, int w, int h, Vec2 origin, double inv
   for (int k = 0; k < kLanes; ++k) active += start(k) ? 1 : 0;
 
   const __m128i width = _mm_set1_epi32(w), byte = _mm_set1_epi32(0xFF), three = _mm_set1_epi32(3);
-  const __m128i march_from = _mm_set1_epi32(StaticMap::kFreeBase + 3 - 1), one = _mm_set1_epi32(1);
+  const __m128i one = _mm_set1_epi32(1);
+  const __m256d far_from = _mm256_set1_pd(StaticMap::kFreeBase + 2.5);  // codes >= 5 march
   const __m128i maskv = _mm_set1_epi32(mask);
   const __m256d hair = _mm256_set1_pd(kHair), slack = _mm256_set1_pd(StaticMap::kFreeBase + 1.5);
   const int* base = reinterpret_cast<const int*>(codes);
@@ -130,18 +131,28 @@ void cast_batch_avx2(const uint8_t* codes, int w, int h, Vec2 origin, double inv
     const __m128i ix = _mm256_cvttpd_epi32(px), iy = _mm256_cvttpd_epi32(py);
     const __m128i cell = _mm_add_epi32(_mm_mullo_epi32(iy, width), ix);
     const __m128i c = _mm_and_si128(_mm_i32gather_epi32(base, cell, 1), byte);
-    // Hit: an occupied code (0..2) whose bit is in the mask.
-    const __m128i hit = _mm_and_si128(_mm_cmplt_epi32(c, three),
-                                      _mm_cmpeq_epi32(_mm_and_si128(_mm_srlv_epi32(maskv, c), one), one));
+    const __m256d cf = _mm256_cvtepi32_pd(c);
+    // Hit: an occupied code (0..2) whose bit is in the mask. The two common
+    // masks are one compare.
+    __m256d hit;
+    if (mask == StaticMap::kRangerMask) {
+      hit = _mm256_cmp_pd(cf, _mm256_set1_pd(1.5), _CMP_LT_OQ);
+    } else if (mask == StaticMap::kAnyMask) {
+      hit = _mm256_cmp_pd(cf, _mm256_set1_pd(2.5), _CMP_LT_OQ);
+    } else {
+      const __m128i in_mask = _mm_and_si128(
+          _mm_cmplt_epi32(c, three), _mm_cmpeq_epi32(_mm_and_si128(_mm_srlv_epi32(maskv, c), one), one));
+      hit = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(in_mask));
+    }
     // March where the cell is far from obstacles, else walk to the next cell
     // boundary (min over x and y) plus a hair.
     const __m256d fx = _mm256_cvtepi32_pd(ix), fy = _mm256_cvtepi32_pd(iy);
     const __m256d tx = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(_mm256_add_pd(fx, v.wx), px), v.ix), v.bx);
     const __m256d ty = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(_mm256_add_pd(fy, v.wy), py), v.iy), v.by);
     const __m256d walk = _mm256_add_pd(_mm256_min_pd(tx, ty), hair);
-    const __m256d march = _mm256_sub_pd(_mm256_cvtepi32_pd(c), slack);
-    const __m256d far = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(c, march_from)));
-    const __m256d hit_d = _mm256_andnot_pd(v.fin, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(hit)));
+    const __m256d march = _mm256_sub_pd(cf, slack);
+    const __m256d far = _mm256_cmp_pd(cf, far_from, _CMP_GT_OQ);
+    const __m256d hit_d = _mm256_andnot_pd(v.fin, hit);
     const __m256d next_t = _mm256_add_pd(v.t, _mm256_blendv_pd(walk, march, far));
     const __m256d over = _mm256_cmp_pd(next_t, v.te, _CMP_GE_OQ);
     const __m256d stay = _mm256_or_pd(_mm256_or_pd(v.fin, hit_d), over);
