@@ -21,10 +21,9 @@ WorldDesc crowd() {
   WorldDesc d = test::room(6, 4);
   d.statics[0].polygons.push_back(test::box(-0.5, -0.5, 0.5, 0.5));
   for (int i = 0; i < 24; ++i) {
-    RobotDesc r = std::string name =
-        "r";  // appended: GCC 12 -O3 warns falsely (-Wrestrict) on "r" + std::string
+    std::string name = "r";  // appended: GCC 12 -O3 warns falsely (-Wrestrict) on "r" + std::string
     name.append(std::to_string(i));
-    test::robot(name, {-5 + (i % 8) * 1.4, -3 + (i / 8) * 2.5 + 0.3, i * 0.7}, 0.3);
+    RobotDesc r = test::robot(name, {-5 + (i % 8) * 1.4, -3 + (i / 8) * 2.5 + 0.3, i * 0.7}, 0.3);
     r.velocity[0] = {-0.5, 0.5};
     r.acceleration[0] = {-1, 1};
     RangerDesc laser = test::laser(31, kPi, 3.0);
