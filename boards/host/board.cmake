@@ -3,6 +3,12 @@
 set(BOARD_DRIVERS
   kinematic
   odrive_can
+  p2os
+  sicklms200
+  logreplay
+  mapfile
+  mcl
+  fusion
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)
