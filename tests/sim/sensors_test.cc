@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <vector>
 
 #include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
@@ -171,23 +172,39 @@ TEST(StaticMap, MarchingFindsTheSameCellAsThePerCellWalk) {
   world::Diagnostics diags;
   auto w = World::load(path, 1, diags);
   ASSERT_TRUE(w) << diags.str();
-  const StaticMap& map = w->map();
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> pos(-8.5, 8.5), ang(-kPi, kPi), range(0.1, 12);
-  int exact = 0;
-  const int n = 20000;
-  for (int i = 0; i < n; ++i) {
-    Vec2 o{pos(rng), pos(rng)};
-    double a = ang(rng);
-    Vec2 dir{std::cos(a), std::sin(a)};
-    float maxr = float(range(rng));
-    float fast = map.cast(o, dir, maxr), slow = map.cast_per_cell(o, dir, maxr);
-    // Both report where the ray enters the same cell; only float rounding
-    // of the restarted walk may differ (a ray through a cell corner).
-    ASSERT_NEAR(fast, slow, map.resolution()) << "ray " << i;
-    exact += std::fabs(fast - slow) < 1e-4;
+  // simple.world's map is small enough to be read without the coarse
+  // level; a copy reads it first, as a large map would.
+  StaticMap coarse = w->map();
+  ASSERT_FALSE(coarse.coarse());
+  coarse.set_coarse(true);
+  for (const StaticMap* map : {&w->map(), static_cast<const StaticMap*>(&coarse)}) {
+    SCOPED_TRACE(map->coarse() ? "coarse level" : "map only");
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> pos(-8.5, 8.5), ang(-kPi, kPi), range(0.1, 12);
+    int exact = 0;
+    const int n = 20000;
+    std::vector<RayQuery> batch;
+    std::vector<float> slow;
+    for (int i = 0; i < n; ++i) {
+      Vec2 o{pos(rng), pos(rng)};
+      double a = ang(rng);
+      Vec2 dir{std::cos(a), std::sin(a)};
+      float maxr = float(range(rng));
+      float fast = map->cast(o, dir, maxr);
+      slow.push_back(map->cast_per_cell(o, dir, maxr));
+      batch.push_back({o, dir, maxr});
+      // Both report where the ray enters the same cell; only float rounding
+      // of the restarted walk may differ (a ray through a cell corner).
+      ASSERT_NEAR(fast, slow.back(), map->resolution()) << "ray " << i;
+      exact += std::fabs(fast - slow.back()) < 1e-4;
+    }
+    EXPECT_GE(exact, n - n / 1000);
+    // All at once, as a laser casts them: the same within a cell.
+    std::vector<float> out(batch.size());
+    map->cast_batch(batch, StaticMap::kRangerMask, out.data());
+    for (int i = 0; i < n; ++i)
+      ASSERT_NEAR(out[size_t(i)], slow[size_t(i)], map->resolution()) << "ray " << i;
   }
-  EXPECT_GE(exact, n - n / 1000);
 }
 
 TEST(Fiducial, SeesIdsInRangeAndFovButNotBehindWalls) {
