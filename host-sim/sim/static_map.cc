@@ -187,6 +187,20 @@ void StaticMap::finish() {
   use_coarse_ = w * h >= kCoarseFromCells;
 }
 
+void StaticMap::prefetch(Vec2 p, double r) const {
+  const double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_, ru = r * inv_res_;
+  if (!(u - ru >= 0 && v - ru >= 0 && u + ru < w_ && v + ru < h_)) return;  // near the edge: not worth it
+  const int bx0 = int(u - ru) >> kTileShift, bx1 = std::min(int(u + ru) >> kTileShift, bx0 + 2);
+  const int by0 = int(v - ru) >> kTileShift, by1 = std::min(int(v + ru) >> kTileShift, by0 + 2);
+  for (int by = by0; by <= by1; ++by) {
+    for (int bx = bx0; bx <= bx1; ++bx) {
+      const size_t block = size_t(by) * size_t(blocks_w_) + size_t(bx);
+      if (use_coarse_) __builtin_prefetch(&coarse_[block]);
+      __builtin_prefetch(&codes_[block << (2 * kTileShift)]);
+    }
+  }
+}
+
 bool StaticMap::overlaps(std::span<const Vec2> poly, uint8_t mask) const {
   if (poly.empty()) return false;
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
@@ -224,11 +238,19 @@ bool StaticMap::segment_hits(Vec2 a, Vec2 b, uint8_t mask) const {
   return cast(a, (1.0 / len) * d, float(len), mask) < float(len);
 }
 
-double StaticMap::clearance(Vec2 p) const {
+double StaticMap::clearance(Vec2 p, double enough) const {
   double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_;
   if (u < 0 || v < 0 || u >= w_ || v >= h_) {
     double ex = std::max({0.0, -u, u - w_}), ey = std::max({0.0, -v, v - h_});
     return std::hypot(ex, ey) * res_;
+  }
+  // A block's code is its smallest cell's: the same bound holds anywhere in
+  // the block.
+  if (use_coarse_) {
+    const uint8_t b =
+        coarse_[size_t(int(v) >> kTileShift) * size_t(blocks_w_) + size_t(int(u) >> kTileShift)];
+    const double bound = std::max(0.0, (double(b) - kFreeBase - 1.4143) * res_);
+    if (bound > enough) return bound;
   }
   uint8_t c = code(int(u), int(v));
   if (c <= kBarrier) return 0;

@@ -88,6 +88,10 @@ class StaticMap {
   /// mid-level cache) read the coarse level first.
   static constexpr size_t kCoarseFromCells = size_t(4) << 20;
 
+  /// Starts loading the cells within `r` (m) of `p` (world) into the
+  /// cache, for a cast from there soon after. At most 3 x 3 blocks.
+  void prefetch(Vec2 p, double r) const;
+
   /// True when the polygon (world frame) overlaps a cell whose code is in
   /// `mask`.
   bool overlaps(std::span<const Vec2> polygon, uint8_t mask = kObstacleMask) const;
@@ -95,8 +99,9 @@ class StaticMap {
   bool segment_hits(Vec2 a, Vec2 b, uint8_t mask = kObstacleMask) const;
 
   /// A lower bound on the distance from `p` to any occupied cell, m (0 inside
-  /// one; large outside the grid's reach).
-  double clearance(Vec2 p) const;
+  /// one; large outside the grid's reach). With the coarse level, the
+  /// block's bound when that is more than `enough` m (the map is not read).
+  double clearance(Vec2 p, double enough = 1e300) const;
 
   int width() const { return w_; }
   int height() const { return h_; }
