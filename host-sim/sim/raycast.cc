@@ -86,8 +86,9 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
     return;
   }
 #if defined(TROUPE_HAVE_AVX2)
-  // Twelve rays in registers at once, when the processor has AVX2.
-  static const bool kAvx2 = __builtin_cpu_supports("avx2");
+  // Sixteen rays in registers at once, when the processor has AVX2 (and
+  // FMA, which every AVX2 processor but a few early ones has).
+  static const bool kAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   if (kAvx2) {
     return detail::cast_batch_avx2(codes_.data(), use_coarse_ ? coarse_.data() : nullptr, blocks_w_, w_, h_,
                                    origin_, inv_res_, res_, rays, mask, out);
