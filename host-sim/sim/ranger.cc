@@ -188,6 +188,11 @@ void Engine::update_ranger(uint32_t index) {
     const Transducer& td = transducers[t];
     float* r = out + td.beam_offset;
     const uint64_t beam = rs.beam_first + td.beam_offset;  // world-wide index: the noise counter
+    if (td.noise_prop <= 0 && td.noise_sd <= 0) {
+      // No noise: only the limits (the loop below does the same, slower).
+      for (uint32_t s = 0; s < td.samples; ++s) r[s] = std::max(std::min(r[s], td.range_max), td.range_min);
+      continue;
+    }
     for (uint32_t s = 0; s < td.samples; ++s) {
       if (r[s] < td.range_max) {
         double v = r[s];
