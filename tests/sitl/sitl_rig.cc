@@ -66,7 +66,8 @@ RangeCheck check_laser(const client::RangerProxy& laser, const Pose2& truth) {
     const double error = std::fabs(laser.range(i) - expected);
     ++r.checked;
     r.worst = std::max(r.worst, error);
-    if (error > kRangeTolerance) what << " beam " << i << ": " << laser.range(i) << " m, expected " << expected;
+    if (error > kRangeTolerance)
+      what << " beam " << i << ": " << laser.range(i) << " m, expected " << expected;
   }
   r.what = what.str();
   return r;
@@ -86,7 +87,8 @@ RangeCheck check_sonar(const client::RangerProxy& sonar, const Pose2& truth) {
     const double error = std::fabs(sonar.range(i) - expected);
     ++r.checked;
     r.worst = std::max(r.worst, error);
-    if (error > kRangeTolerance) what << " sonar " << i << ": " << sonar.range(i) << " m, expected " << expected;
+    if (error > kRangeTolerance)
+      what << " sonar " << i << ": " << sonar.range(i) << " m, expected " << expected;
   }
   r.what = what.str();
   return r;
@@ -96,12 +98,13 @@ RangeCheck check_sonar(const client::RangerProxy& sonar, const Pose2& truth) {
 
 bool SimRig::start(const std::string& dir, std::string& error) {
   const std::string info = dir + "/emulated.txt";
-  if (!sim.start({TROUPE_SIM_BIN, std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/sitl_room.world", "--port", "0",
-                  "--no-ctrl", "--emulate", "r0=p2os,sicklms200", "--emulate-info", info},
+  if (!sim.start({TROUPE_SIM_BIN, std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/sitl_room.world",
+                  "--port", "0", "--no-ctrl", "--emulate", "r0=p2os,sicklms200", "--emulate-info", info},
                  dir, "troupe-sim", error)) {
     return false;
   }
-  if (!sim.wait_for("listening on 127.0.0.1:", false, kWaitMs) || !sim.wait_for("r0 sicklms200 ", false, kWaitMs)) {
+  if (!sim.wait_for("listening on 127.0.0.1:", false, kWaitMs) ||
+      !sim.wait_for("r0 sicklms200 ", false, kWaitMs)) {
     error = "troupe-sim did not come up; its output:\n" + sim.out() + sim.err();
     return false;
   }
@@ -137,7 +140,8 @@ std::string node_config_json(const SimRig& rig) {
 )";
 }
 
-void drive_simulated_pioneer(uint16_t node_port, uint16_t sim_port, const std::function<std::string()>& logs) {
+void drive_simulated_pioneer(uint16_t node_port, uint16_t sim_port,
+                             const std::function<std::string()>& logs) {
   Client node("127.0.0.1", node_port, options());
   ASSERT_TRUE(node.connect()) << node.error();
   Client sim("127.0.0.1", sim_port, options());
@@ -155,8 +159,7 @@ void drive_simulated_pioneer(uint16_t node_port, uint16_t sim_port, const std::f
   // Waits until the robot stands still: the driver reports no motion and
   // the ground truth no longer changes between two looks.
   auto wait_stopped = [&] {
-    ASSERT_TRUE(spin_until(node, [&] { return base.velocity().x == 0 && base.velocity().a == 0; }))
-        << logs();
+    ASSERT_TRUE(spin_until(node, [&] { return base.velocity().x == 0 && base.velocity().a == 0; })) << logs();
     for (Pose2 before = true_pose();; before = truth) {
       // Half a second of simulated time later (the clock troupe-sim pushes).
       const uint64_t then = simulation.sim_time_us() + 500000;
