@@ -99,6 +99,13 @@ bool ChildProcess::wait_for(const std::string& needle, bool in_err, int timeout_
   }
 }
 
+int ChildProcess::wait_exit(int timeout_ms) const {
+  for (int waited = 0; running() && waited < timeout_ms; waited += kPollMs) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(kPollMs));
+  }
+  return running() ? -1 : status_;
+}
+
 int ChildProcess::stop() {
   if (pid_ <= 0) return -1;
   if (running()) {

@@ -31,6 +31,9 @@ class ChildProcess {
   bool wait_for(const std::string& needle, bool in_err, int timeout_ms) const;
   /// False once the child has exited.
   bool running() const;
+  /// Waits until the child exits, at most `timeout_ms`; its exit status,
+  /// or -1 when it was killed or still runs.
+  int wait_exit(int timeout_ms) const;
   /// SIGTERM, then waits (SIGKILL after 20 s). The exit status, or -1.
   int stop();
 

@@ -25,7 +25,10 @@ TEST(SitlHost, NodeDrivesTheSimulatedPioneer) {
   testing::TempDir dir;
   SimRig rig;
   std::string error;
-  ASSERT_TRUE(rig.start(dir.path(), error)) << error;
+  // The node opens the devices by their stable names (--emulate-links).
+  ASSERT_TRUE(rig.start(dir.path(), error, true)) << error;
+  EXPECT_EQ(rig.p2os_path, dir.file("r0-p2os"));
+  EXPECT_EQ(rig.sick_path, dir.file("r0-sicklms200"));
 
   const std::string config = dir.file("sitl-pioneer.json");
   ASSERT_TRUE(write_text(config, node_config_json(rig)));
@@ -47,6 +50,22 @@ TEST(SitlHost, NodeDrivesTheSimulatedPioneer) {
 
   EXPECT_EQ(node.stop(), 0) << logs();
   EXPECT_EQ(rig.sim.stop(), 0) << logs();
+}
+
+// A spec troupe-sim cannot honour stops it before it serves, saying why.
+TEST(SitlHost, BadEmulateSpecStopsTroupeSimSayingWhy) {
+  testing::TempDir dir;
+  const std::string world = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/sitl_room.world";
+  for (const char* spec : {"r7=p2os", "r0=p2os,lidar"}) {
+    ChildProcess sim;
+    std::string error;
+    ASSERT_TRUE(
+        sim.start({TROUPE_SIM_BIN, world, "--port", "0", "--emulate", spec}, dir.path(), "sim", error));
+    EXPECT_EQ(sim.wait_exit(kWaitMs), 1) << sim.err();
+    EXPECT_NE(sim.err().find(std::string("troupe-sim: --emulate ") + spec + ": "), std::string::npos)
+        << sim.err();
+    EXPECT_EQ(sim.out().find("listening"), std::string::npos) << sim.out();
+  }
 }
 
 }  // namespace

@@ -96,13 +96,19 @@ RangeCheck check_sonar(const client::RangerProxy& sonar, const Pose2& truth) {
 
 }  // namespace
 
-bool SimRig::start(const std::string& dir, std::string& error) {
+bool SimRig::start(const std::string& dir, std::string& error, bool links) {
   const std::string info = dir + "/emulated.txt";
-  if (!sim.start({TROUPE_SIM_BIN, std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/sitl_room.world",
-                  "--port", "0", "--no-ctrl", "--emulate", "r0=p2os,sicklms200", "--emulate-info", info},
-                 dir, "troupe-sim", error)) {
-    return false;
-  }
+  std::vector<std::string> argv = {TROUPE_SIM_BIN,
+                                   std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/sitl_room.world",
+                                   "--port",
+                                   "0",
+                                   "--no-ctrl",
+                                   "--emulate",
+                                   "r0=p2os,sicklms200",
+                                   "--emulate-info",
+                                   info};
+  if (links) argv.insert(argv.end(), {"--emulate-links", dir});
+  if (!sim.start(argv, dir, "troupe-sim", error)) return false;
   if (!sim.wait_for("listening on 127.0.0.1:", false, kWaitMs) ||
       !sim.wait_for("r0 sicklms200 ", false, kWaitMs)) {
     error = "troupe-sim did not come up; its output:\n" + sim.out() + sim.err();

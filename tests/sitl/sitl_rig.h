@@ -15,9 +15,10 @@ namespace troupe::sitl {
 
 /// troupe-sim with r0 emulated, as a child process.
 struct SimRig {
-  /// Starts it and waits for its port and the devices' paths. False with
-  /// `error` (including its output) when it does not come up.
-  bool start(const std::string& dir, std::string& error);
+  /// Starts it and waits for its port and the devices' paths (with
+  /// `links`: the stable names it makes in `dir`). False with `error`
+  /// (including its output) when it does not come up.
+  bool start(const std::string& dir, std::string& error, bool links = false);
 
   ChildProcess sim;
   uint16_t port = 0;
