@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 #include "tests/device_harness/device_harness.h"
 #include "tests/sitl/sitl_rig.h"
@@ -47,9 +49,17 @@ TEST(SitlHost, NodeDrivesTheSimulatedPioneer) {
   const uint16_t port = uint16_t(std::atoi(err.c_str() + at + needle.size()));
 
   drive_simulated_pioneer(port, rig.port, logs);
-
   EXPECT_EQ(node.stop(), 0) << logs();
-  EXPECT_EQ(rig.sim.stop(), 0) << logs();
+
+  // The devices outlive their driver, as hardware does: a new node finds
+  // the robot again (a session left open, a scanner streaming at 38400 baud).
+  ChildProcess again;
+  ASSERT_TRUE(again.start({TROUPE_NODE_BIN, config}, dir.path(), "troupe-node-2", error)) << error;
+  auto logs2 = [&] { return "troupe-node:\n" + again.err() + "troupe-sim:\n" + rig.sim.err(); };
+  EXPECT_TRUE(again.wait_for("p2os: connected to r0 (Pioneer p3dx-sh)", true, kWaitMs)) << logs2();
+  EXPECT_TRUE(again.wait_for("sicklms200: scanner on", true, kWaitMs)) << logs2();
+  EXPECT_EQ(again.stop(), 0) << logs2();
+  EXPECT_EQ(rig.sim.stop(), 0) << logs2();
 }
 
 // A spec troupe-sim cannot honour stops it before it serves, saying why.
@@ -65,6 +75,20 @@ TEST(SitlHost, BadEmulateSpecStopsTroupeSimSayingWhy) {
     EXPECT_NE(sim.err().find(std::string("troupe-sim: --emulate ") + spec + ": "), std::string::npos)
         << sim.err();
     EXPECT_EQ(sim.out().find("listening"), std::string::npos) << sim.out();
+  }
+  // Where the paths cannot be written, likewise.
+  const std::string missing = dir.file("no-such-folder");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--emulate-info", missing + "/info.txt"}, "--emulate-info: cannot write " + missing + "/info.txt"},
+      {{"--emulate-links", missing}, "cannot link " + missing + "/r0-p2os"}};
+  for (const auto& [extra, message] : cases) {
+    std::vector<std::string> argv = {TROUPE_SIM_BIN, world, "--port", "0", "--emulate", "r0=p2os"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    ChildProcess sim;
+    std::string error;
+    ASSERT_TRUE(sim.start(argv, dir.path(), "sim", error));
+    EXPECT_EQ(sim.wait_exit(kWaitMs), 1) << sim.err();
+    EXPECT_NE(sim.err().find(message), std::string::npos) << sim.err();
   }
 }
 
