@@ -43,6 +43,7 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
   const size_t blocks_h = size_t((h_ + kTile - 1) >> kTileShift);
   codes_.assign((size_t(blocks_w_) * blocks_h << (2 * kTileShift)) + 4, kFree);
   coarse_.clear();
+  use_coarse_ = false;
 }
 
 void StaticMap::mark(size_t i, bool obstacle, bool visible) {

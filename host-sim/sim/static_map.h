@@ -82,8 +82,6 @@ class StaticMap {
     const size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
     return (block << (2 * kTileShift)) + size_t((iy & (kTile - 1)) << kTileShift) + size_t(ix & (kTile - 1));
   }
-  /// Blocks per row of blocks.
-  int blocks_w() const { return blocks_w_; }
   /// Maps from this many cells on (4 MiB, about a core's share of the
   /// mid-level cache) read the coarse level first.
   static constexpr size_t kCoarseFromCells = size_t(4) << 20;
