@@ -193,7 +193,11 @@ void Mcl::on_odometry(const wire::Message& data) {
   if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.a)) return;
   uint64_t t = wire::time_us(*data.header());
   if (odom_count_ > 0 && t < odom_[(odom_head_ + kOdomHistory - 1) % kOdomHistory].time_us) {
-    odom_count_ = 0;  // the source restarted: older samples no longer belong
+    // The source restarted (its clock went back): older samples no longer
+    // belong, and its poses start from a new origin.
+    odom_count_ = 0;
+    if (filter_) filter_->reset_odometry();
+    log_info("%s: odometry restarted; continuing from the current belief", name_.c_str());
   }
   odom_[odom_head_] = {t, pose};
   odom_head_ = (odom_head_ + 1) % kOdomHistory;
