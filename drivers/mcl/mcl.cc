@@ -71,6 +71,7 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
   p.bin_a = opt->bin_a();
   p.motion = {opt->rot_rot(), opt->rot_trans(), opt->trans_trans(), opt->trans_rot()};
   p.sensor.sigma_hit = opt->sigma_hit();
+  p.sensor.surface = opt->surface_field();
   p.sensor.z_hit = opt->z_hit();
   p.sensor.z_rand = opt->z_rand();
   p.sensor.max_distance = opt->max_distance();
