@@ -76,6 +76,7 @@ bool Passthrough::setup(Node& node, const DriverSetup& setup, std::string& error
   lo.limits = node.options().limits;
   in_flight_.resize(kMaxInFlight);
   node_ = &node;
+  since_us_ = node.loop().now_us();
   link_ = std::make_unique<RemoteLink>(node.loop(), *this);
   if (!link_->start(lo, error)) return false;
   if (status_ != kNoDevice) {
@@ -120,6 +121,7 @@ void Passthrough::on_link_down(const std::string& why) {
   for (Forwarded& f : devices_) f.command_pending = false;  // stale by the time the remote is back
   fail_requests("connection to " + link_->remote_text() + " lost: " + why);
   if (was_open) {
+    since_us_ = node_->loop().now_us();
     log_warn("%s: %s; reconnecting", name_.c_str(), why.c_str());
   } else if (why != logged_error_) {
     log_info("%s: %s; retrying", name_.c_str(), why.c_str());
@@ -174,6 +176,7 @@ void Passthrough::on_remote_frame(const wire::Message& msg) {
             wire::Body::Open, open.Union()));
       }
       opened_ = true;
+      since_us_ = node_->loop().now_us();
       log_info("%s: connected to %s (connection %u)", name_.c_str(), link_->remote_text().c_str(),
                link_->connections());
       logged_error_.clear();
@@ -315,7 +318,7 @@ std::string Passthrough::status_text() const {
     err += c;
   }
   const char* state = opened_ ? "connected" : "reconnecting";
-  double since_s = double(node_->loop().now_us() - link_->since_us()) * 1e-6;
+  double since_s = double(node_->loop().now_us() - since_us_) * 1e-6;
   char buf[160];
   std::snprintf(buf, sizeof buf,
                 "{\"remote\":\"%s\",\"state\":\"%s\",\"link\":\"%s\",\"for_s\":%.1f,\"connections\":%u,",

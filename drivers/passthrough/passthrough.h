@@ -71,6 +71,7 @@ class Passthrough : public Driver, public LinkListener {
   TimerId status_timer_ = 0;
   uint32_t list_seq_ = 0;     // the DeviceList request of this connection
   bool opened_ = false;       // devices resolved and opened on this connection
+  uint64_t since_us_ = 0;     // loop time opened_ last changed (or setup), us
   std::string logged_error_;  // the last failure logged, to log a repeat once
   wire::MessageWriter writer_;
 };
