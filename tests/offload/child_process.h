@@ -35,6 +35,11 @@ uint16_t free_port();
 /// True once something accepts connections on 127.0.0.1:`port`, within
 /// `timeout_s` (which only bounds a failing test).
 bool wait_for_listener(uint16_t port, double timeout_s);
+/// A new folder under the system's temporary folder, named `prefix` and a
+/// unique suffix; "" when it cannot be made.
+std::string make_temp_dir(const std::string& prefix);
+/// Removes a folder and everything in it.
+void remove_tree(const std::string& path);
 /// The whole file, or "" when it cannot be read.
 std::string read_text(const std::string& path);
 

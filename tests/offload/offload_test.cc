@@ -91,9 +91,8 @@ double median_error(const std::vector<Estimate>& est, const std::map<uint64_t, c
 class Offload : public ::testing::Test {
  protected:
   void SetUp() override {
-    char tmpl[] = "/tmp/troupe-offload-XXXXXX";
-    ASSERT_NE(mkdtemp(tmpl), nullptr);
-    dir_ = tmpl;
+    dir_ = make_temp_dir("troupe-offload-");
+    ASSERT_FALSE(dir_.empty());
   }
   void TearDown() override {
     sim_.stop();
@@ -102,7 +101,7 @@ class Offload : public ::testing::Test {
       for (const char* log : {"sim.log", "desktop.log"})
         std::fprintf(stderr, "---- %s\n%s", log, read_text(dir_ + "/" + log).c_str());
     }
-    std::system(("rm -rf '" + dir_ + "'").c_str());
+    remove_tree(dir_);
   }
 
   void start_sim(const std::string& truth_log, bool paused) {

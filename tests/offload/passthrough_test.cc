@@ -57,9 +57,8 @@ std::string passthrough_config(const std::string& name, uint16_t port, const std
 class Passthrough : public ::testing::Test {
  protected:
   void SetUp() override {
-    char tmpl[] = "/tmp/troupe-passthrough-XXXXXX";
-    ASSERT_NE(mkdtemp(tmpl), nullptr);
-    dir_ = tmpl;
+    dir_ = make_temp_dir("troupe-passthrough-");
+    ASSERT_FALSE(dir_.empty());
   }
   void TearDown() override {
     for (ChildProcess* p : {&robot_, &desktop_, &middle_}) p->stop();
@@ -69,7 +68,7 @@ class Passthrough : public ::testing::Test {
         if (!text.empty()) std::fprintf(stderr, "---- %s\n%s", log, text.c_str());
       }
     }
-    std::system(("rm -rf '" + dir_ + "'").c_str());
+    remove_tree(dir_);
   }
 
   // Starts troupe-node with `json` on `port` and waits until it listens.
