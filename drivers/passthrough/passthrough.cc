@@ -1,6 +1,5 @@
 #include "drivers/passthrough/passthrough.h"
 
-#include <cinttypes>
 #include <cstdio>
 
 #include "drivers/passthrough/body_copy.h"
@@ -65,8 +64,12 @@ bool Passthrough::setup(Node& node, const DriverSetup& setup, std::string& error
     error = "backoff_min, connect_timeout and idle_timeout must be > 0 s and backoff_max >= backoff_min";
     return false;
   }
+  if (opt->host() == nullptr || opt->host()->size() == 0) {
+    error = "host is required: the remote node's address";
+    return false;
+  }
   LinkOptions lo;
-  lo.host = opt->host() ? opt->host()->str() : "";
+  lo.host = opt->host()->str();
   lo.port = opt->port();
   lo.client_name = "passthrough " + node.options().name;
   lo.backoff_min_us = seconds_to_us(opt->backoff_min());
