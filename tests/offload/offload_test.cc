@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/offload/child_process.h"
+#include "tests/support/child_process.h"
 #include "wire/client/proxies.h"
 
 namespace troupe::testing {
@@ -119,7 +119,7 @@ class Offload : public ::testing::Test {
                                      kBin + "/controllers"};
     if (paused) argv.push_back("--paused");
     std::string error;
-    ASSERT_TRUE(sim_.start(argv, dir_ + "/sim.log", error)) << error;
+    ASSERT_TRUE(sim_.start_logged(argv, dir_ + "/sim.log", error)) << error;
     ASSERT_TRUE(wait_for_listener(sim_port_, 60)) << read_text(dir_ + "/sim.log");
   }
 
@@ -131,8 +131,9 @@ class Offload : public ::testing::Test {
     std::string path = dir_ + "/desktop.json";
     std::ofstream(path) << json;
     std::string error;
-    ASSERT_TRUE(desktop_.start({kBin + "/runtime/troupe-node", path, "--port", std::to_string(desktop_port_)},
-                               dir_ + "/desktop.log", error))
+    ASSERT_TRUE(
+        desktop_.start_logged({kBin + "/runtime/troupe-node", path, "--port", std::to_string(desktop_port_)},
+                              dir_ + "/desktop.log", error))
         << error;
     ASSERT_TRUE(wait_for_listener(desktop_port_, 60)) << read_text(dir_ + "/desktop.log");
   }

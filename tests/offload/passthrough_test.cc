@@ -13,7 +13,7 @@
 #include <functional>
 #include <string>
 
-#include "tests/offload/child_process.h"
+#include "tests/support/child_process.h"
 #include "wire/client/proxies.h"
 
 namespace troupe::testing {
@@ -79,8 +79,8 @@ class Passthrough : public ::testing::Test {
     std::fputs(json.c_str(), f);
     std::fclose(f);
     std::string error;
-    ASSERT_TRUE(p.start({kNode, path, "--port", std::to_string(port), "--log-level", "debug"},
-                        dir_ + "/" + name + ".log", error))
+    ASSERT_TRUE(p.start_logged({kNode, path, "--port", std::to_string(port), "--log-level", "debug"},
+                               dir_ + "/" + name + ".log", error))
         << error;
     ASSERT_TRUE(wait_for_listener(port, kDeadlineS)) << name << " does not listen on " << port;
   }

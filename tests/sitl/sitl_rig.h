@@ -9,9 +9,11 @@
 #include <functional>
 #include <string>
 
-#include "tests/sitl/child_process.h"
+#include "tests/support/child_process.h"
 
 namespace troupe::sitl {
+
+using testing::ChildProcess;
 
 /// troupe-sim with r0 emulated, as a child process.
 struct SimRig {

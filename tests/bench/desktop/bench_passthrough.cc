@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/offload/child_process.h"
+#include "tests/support/child_process.h"
 #include "wire/client/client.h"
 
 using namespace troupe;
@@ -27,8 +27,8 @@ bool start(testing::ChildProcess& p, const std::string& dir, const std::string& 
   std::string path = dir + "/" + name + ".json";
   std::ofstream(path) << json;
   std::string error;
-  if (!p.start({kNode, path, "--port", std::to_string(port), "--log-level", "warn"},
-               dir + "/" + name + ".log", error)) {
+  if (!p.start_logged({kNode, path, "--port", std::to_string(port), "--log-level", "warn"},
+                      dir + "/" + name + ".log", error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return false;
   }
