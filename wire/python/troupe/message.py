@@ -15,7 +15,7 @@ from troupe.wire.Header import CreateHeader
 from troupe.wire.Kind import Kind
 
 from .address import Address
-from .verify import Verifier
+from .verify import Verifier, VerifyError
 
 #: The protocol version this package speaks (Hello.protocol_version).
 PROTOCOL_VERSION = 1
@@ -61,7 +61,7 @@ class Message:
         m.Init(frame, root)
         h = m.Header()
         if h is None:
-            raise ValueError("message without a header")
+            raise VerifyError("Message.header: missing", root)
         a = h.Addr(_AddressStruct())
         self.header = Header(Address(a.Robot(), a.Iface(), a.Index()), h.Kind(), h.Subtype(), h.Seq(),
                              (h.TimeUsHi() << 32) | h.TimeUsLo())
@@ -88,8 +88,8 @@ class Message:
 
 
 def decode(frame: bytes, verifier: Verifier) -> Message:
-    """Verifies a frame and returns its message; raises VerifyError (or
-    ValueError) when the frame is malformed."""
+    """Verifies a frame and returns its message; raises VerifyError when the
+    frame is malformed."""
     return Message(frame, verifier.verify(frame))
 
 

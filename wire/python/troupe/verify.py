@@ -32,7 +32,8 @@ _U32 = struct.Struct("<I").unpack_from
 _I32 = struct.Struct("<i").unpack_from
 
 #: Where frames start their FlatBuffer: after the 4-byte length prefix.
-#: Alignment is relative to it, as the builder lays the buffer out.
+#: Alignment is relative to the frame's first byte: the builder aligns the
+#: buffer with its prefix (as C++ verifies it, through the whole frame).
 _BASE = 4
 
 
@@ -143,10 +144,10 @@ class Verifier:
         if self._tables > self.limits.max_tables:
             raise VerifyError(f"more than {self.limits.max_tables} tables", pos)
         end = len(buf)
-        if (pos - _BASE) % 4 or pos + 4 > end:
+        if pos % 4 or pos + 4 > end:
             raise VerifyError(f"{name}: table misaligned or outside the frame", pos)
         vt = pos - _I32(buf, pos)[0]
-        if vt < _BASE or (vt - _BASE) % 2 or vt + 4 > end:
+        if vt < _BASE or vt % 2 or vt + 4 > end:
             raise VerifyError(f"{name}: vtable outside the frame", pos)
         vsize, tsize = _U16(buf, vt)[0], _U16(buf, vt + 2)[0]
         if vsize < 4 or vsize % 2 or vt + vsize > end:
@@ -160,7 +161,7 @@ class Verifier:
                     raise VerifyError(f"{c.name}: required field missing", pos)
                 continue
             at = pos + fo
-            if fo + c.size > tsize or (at - _BASE) % c.align:
+            if fo + c.size > tsize or at % c.align:
                 raise VerifyError(f"{c.name}: field misaligned or outside its table", at)
             kind = c.kind
             if kind == _INLINE:
@@ -179,7 +180,7 @@ class Verifier:
                     self._table(buf, target, member, depth + 1)
 
     def _string(self, buf, pos: int, name: str) -> None:
-        if (pos - _BASE) % 4:
+        if pos % 4:
             raise VerifyError(f"{name}: string misaligned", pos)
         n = _U32(buf, pos)[0]
         if pos + 4 + n + 1 > len(buf) or buf[pos + 4 + n] != 0:
@@ -187,7 +188,7 @@ class Verifier:
 
     def _vector(self, buf, pos: int, c: _Check, depth: int) -> None:
         what, esize = c.elem
-        if (pos - _BASE) % 4:
+        if pos % 4:
             raise VerifyError(f"{c.name}: vector misaligned", pos)
         n = _U32(buf, pos)[0]
         if pos + 4 + n * esize > len(buf):
