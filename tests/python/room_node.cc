@@ -94,7 +94,8 @@ class RoomLaser : public troupe::Driver {
                    scan.Union());
   }
 
-  void on_request(troupe::DeviceId device, const troupe::wire::Message& req, troupe::RequestToken token) override {
+  void on_request(troupe::DeviceId device, const troupe::wire::Message& req,
+                  troupe::RequestToken token) override {
     if (req.header()->subtype() != uint8_t(troupe::wire::RangerReqSub::Geometry)) {
       return Driver::on_request(device, req, token);
     }
@@ -152,10 +153,10 @@ int main(int argc, char** argv) {
   troupe::Node node(options);
   auto* base = new troupe::drivers::kinematic::Kinematic;
   auto* laser = new RoomLaser({0, 0, size / 2}, pillar, rate);
-  troupe::DeviceId base_id = node.add_device(troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Position2d), 0),
-                                             base, "kinematic");
-  troupe::DeviceId laser_id =
-      node.add_device(troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Ranger), 0), laser, "room-laser");
+  troupe::DeviceId base_id = node.add_device(
+      troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Position2d), 0), base, "kinematic");
+  troupe::DeviceId laser_id = node.add_device(
+      troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Ranger), 0), laser, "room-laser");
   std::string error;
   troupe::DriverSetup base_setup, laser_setup;
   base_setup.name = "kinematic";
