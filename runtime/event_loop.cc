@@ -143,14 +143,27 @@ void EventLoop::run_timers() {
   }
 }
 
+int EventLoop::wait(epoll_event* events, int max_events, int64_t wait_us) {
+  // epoll_pwait2 waits to the microsecond; epoll_wait only to the
+  // millisecond, which makes a 1 kHz timer fire late and skip ticks. Kernels
+  // before 5.11 (and some qemu-user versions) lack the former.
+  if (have_pwait2_) {
+    timespec ts{time_t(wait_us / 1000000), long(wait_us % 1000000) * 1000};
+    int n = epoll_pwait2(epoll_fd_, events, max_events, wait_us < 0 ? nullptr : &ts, nullptr);
+    if (n >= 0 || errno != ENOSYS) return n;
+    have_pwait2_ = false;
+  }
+  // Round up so a timer 300 us away does not spin with a 0 ms timeout.
+  int timeout_ms = wait_us < 0 ? -1 : int((wait_us + 999) / 1000);
+  return epoll_wait(epoll_fd_, events, max_events, timeout_ms);
+}
+
 void EventLoop::run_once(int64_t max_wait_us) {
   int64_t wait_us = next_timer_wait_us();
   if (max_wait_us >= 0 && (wait_us < 0 || wait_us > max_wait_us)) wait_us = max_wait_us;
   if (stopped_) wait_us = 0;
-  // Round up so a timer 300 us away does not spin with a 0 ms timeout.
-  int timeout_ms = wait_us < 0 ? -1 : int((wait_us + 999) / 1000);
   epoll_event events[kMaxEventsPerWait];
-  int n = epoll_wait(epoll_fd_, events, kMaxEventsPerWait, timeout_ms);
+  int n = wait(events, kMaxEventsPerWait, wait_us);
   if (n < 0 && errno != EINTR) log_error("epoll_wait: errno %d", errno);
   for (int i = 0; i < n; ++i) {
     int fd = events[i].data.fd;

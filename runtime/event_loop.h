@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+struct epoll_event;
+
 namespace troupe {
 
 /// Receives readiness of a watched descriptor.
@@ -78,6 +80,7 @@ class EventLoop {
     uint32_t generation;
   };
 
+  int wait(struct epoll_event* events, int max_events, int64_t wait_us);
   void push_heap_entry(HeapEntry e);
   HeapEntry pop_heap_entry();
   void run_timers();
@@ -89,6 +92,7 @@ class EventLoop {
   std::vector<uint32_t> free_slots_;
   std::vector<HeapEntry> heap_;  // min-heap on deadline; cancelled entries linger until popped
   bool stopped_ = false;
+  bool have_pwait2_ = true;
 };
 
 }  // namespace troupe

@@ -100,6 +100,14 @@ Node::Options test_options() {
   return o;
 }
 
+RecorderNode::RecorderNode(wire::Interface iface, Node::Options options, client::Client::Options client_options)
+    : node(std::move(options)), recorder(new Recorder) {
+  node.add_device(iface, 0, recorder);
+  node.start();
+  client = std::make_unique<client::Client>("127.0.0.1", node.port(), std::move(client_options));
+  EXPECT_TRUE(client->connect()) << client->error();
+}
+
 NodeThread::NodeThread(Node::Options options) : node_(std::move(options)) {}
 
 NodeThread::~NodeThread() { stop(); }

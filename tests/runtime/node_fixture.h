@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "runtime/node.h"
+#include "wire/client/client.h"
 #include "wire/frame.h"
 #include "wire/writer.h"
 
@@ -85,6 +86,16 @@ class NodeThread {
 
 /// Node::Options for tests: loopback, kernel-chosen port, short deadlines.
 Node::Options test_options();
+
+/// The start of most tests: a node serving one Recorder device (robot 0,
+/// index 0) and a client connected to it.
+struct RecorderNode {
+  explicit RecorderNode(wire::Interface iface, Node::Options options = test_options(),
+                        client::Client::Options client_options = {});
+  NodeThread node;
+  Recorder* recorder;
+  std::unique_ptr<client::Client> client;
+};
 
 /// A plain TCP connection for sending arbitrary bytes and reading frames.
 class RawConnection {

@@ -81,12 +81,9 @@ TEST(Protocol, NewerCommandInTheSameBatchReplacesTheOlder) {
 }
 
 TEST(Protocol, RequestIsAnsweredOnceAndSilenceBecomesTimeout) {
-  NodeThread n(test_options());
-  auto* rec = new Recorder;
-  n.add_device(Interface::Position2d, 0, rec);
-  n.start();
-  client::Client c("127.0.0.1", n.port());
-  ASSERT_TRUE(c.connect());
+  RecorderNode n(Interface::Position2d);
+  Recorder* rec = n.recorder;
+  client::Client& c = *n.client;
   auto pos = addr(Interface::Position2d);
   EXPECT_TRUE(c.request(pos, 4).ok());
   // The driver stays silent: the node answers Timeout at its deadline (300 ms).
@@ -98,7 +95,7 @@ TEST(Protocol, RequestIsAnsweredOnceAndSilenceBecomesTimeout) {
   EXPECT_EQ(late.code, wire::ErrorCode::Timeout);
   // Listen long past the late reply (3x the deadline): exactly one reply,
   // the Nack, ever comes for the request.
-  RawConnection raw(n.port());
+  RawConnection raw(n.node.port());
   ASSERT_FALSE(raw.read_until(Kind::Hello).empty());
   ASSERT_TRUE(raw.send_bytes(empty_frame(pos, Kind::Request, Recorder::kReplyLate, 77)));
   std::vector<Kind> replies;
@@ -112,11 +109,8 @@ TEST(Protocol, RequestIsAnsweredOnceAndSilenceBecomesTimeout) {
 }
 
 TEST(Protocol, RequestToAMissingDeviceIsRefusedByName) {
-  NodeThread n(test_options());
-  n.add_device(Interface::Position2d, 0, new Recorder);
-  n.start();
-  client::Client c("127.0.0.1", n.port());
-  ASSERT_TRUE(c.connect());
+  RecorderNode n(Interface::Position2d);
+  client::Client& c = *n.client;
   client::Reply r = c.request(addr(Interface::Ranger, 4), 1);
   EXPECT_EQ(r.status, client::Reply::Status::Nack);
   EXPECT_EQ(r.code, wire::ErrorCode::NoSuchDevice);
@@ -126,12 +120,9 @@ TEST(Protocol, RequestToAMissingDeviceIsRefusedByName) {
 }
 
 TEST(Protocol, PullDeliversOnlyTheLatestSampleOnRequest) {
-  NodeThread n(test_options());
-  auto* rec = new Recorder;
-  n.add_device(Interface::Ranger, 0, rec);
-  n.start();
-  client::Client c("127.0.0.1", n.port());
-  ASSERT_TRUE(c.connect());
+  RecorderNode n(Interface::Ranger);
+  Recorder* rec = n.recorder;
+  client::Client& c = *n.client;
   std::vector<uint32_t> seqs;
   c.add_data_handler([&](const wire::Message& m) { seqs.push_back(m.header()->seq()); });
   ASSERT_TRUE(c.open(addr(Interface::Ranger), wire::Access::Read, wire::Delivery::Pull));
@@ -145,12 +136,9 @@ TEST(Protocol, PullDeliversOnlyTheLatestSampleOnRequest) {
 }
 
 TEST(Protocol, ReadOnlyOpenRefusesCommands) {
-  NodeThread n(test_options());
-  auto* rec = new Recorder;
-  n.add_device(Interface::Position2d, 0, rec);
-  n.start();
-  client::Client c("127.0.0.1", n.port());
-  ASSERT_TRUE(c.connect());
+  RecorderNode n(Interface::Position2d);
+  Recorder* rec = n.recorder;
+  client::Client& c = *n.client;
   auto pos = addr(Interface::Position2d);
   ASSERT_TRUE(c.open(pos, wire::Access::Read));
   auto& b = c.begin();
@@ -160,7 +148,7 @@ TEST(Protocol, ReadOnlyOpenRefusesCommands) {
   EXPECT_NE(c.error().find("read-only"), std::string::npos) << c.error();
   EXPECT_EQ(rec->commands.load(), 0);
   // Any client may still command it when it has not opened it read-only.
-  client::Client other("127.0.0.1", n.port());
+  client::Client other("127.0.0.1", n.node.port());
   ASSERT_TRUE(other.connect());
   auto& b2 = other.begin();
   ASSERT_TRUE(other.command(pos, 1, wire::Body::Position2dVel, wire::CreatePosition2dVel(b2, &vel).Union()));
@@ -169,11 +157,8 @@ TEST(Protocol, ReadOnlyOpenRefusesCommands) {
 }
 
 TEST(Protocol, ClockOffsetIsLearnedAtConnect) {
-  NodeThread n(test_options());
-  n.add_device(Interface::Position2d, 0, new Recorder);
-  n.start();
-  client::Client c("127.0.0.1", n.port());
-  ASSERT_TRUE(c.connect());
+  RecorderNode n(Interface::Position2d);
+  client::Client& c = *n.client;
   ASSERT_TRUE(c.sync());
   // Same machine, same monotonic clock: the offset is the round trip's
   // asymmetry, far below a second.

@@ -1,0 +1,118 @@
+// troupe-goalkeeper-bench: the goalkeeper benchmark (`troupe
+// goalkeeper-bench` through the CLI). Prints the table of goals per shots
+// for every keeper policy and seed.
+//
+//   troupe-goalkeeper-bench [--world FILE] [--shots N] [--seeds 1,2,3]
+//       [--policies none,random,pattern,block,intercept,mixed]
+//       [--keeper ROBOT] [--striker ROBOT] [--keeper-plugin NAME] [--striker-plugin NAME]
+//       [--keeper-option key=value]... [--striker-option key=value]...
+//       [--plugin-path DIR]... [--timeout S] [--quiet]
+//
+// Without --world it uses the standard world (bench/standard_world.cc).
+#include <cstdio>
+#include <cstring>
+
+#include "host-sim/robocup/bench/goalkeeper_bench.h"
+#include "runtime/log.h"
+
+using namespace troupe::robocup;
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= s.size()) {
+    size_t comma = s.find(',', start);
+    if (comma == std::string::npos) comma = s.size();
+    if (comma > start) out.push_back(s.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
+bool key_value(const std::string& s, std::pair<std::string, std::string>& out) {
+  const size_t eq = s.find('=');
+  if (eq == std::string::npos || eq == 0) return false;
+  out = {s.substr(0, eq), s.substr(eq + 1)};
+  return true;
+}
+
+int usage() {
+  fprintf(stderr,
+          "usage: troupe-goalkeeper-bench [--world FILE] [--shots N] [--seeds 1,2,3] [--policies a,b,...]\n"
+          "       [--keeper ROBOT] [--striker ROBOT] [--keeper-plugin NAME] [--striker-plugin NAME]\n"
+          "       [--keeper-option key=value]... [--striker-option key=value]...\n"
+          "       [--plugin-path DIR]... [--timeout S] [--quiet]\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  troupe::set_log_program("troupe-goalkeeper-bench");
+  BenchSettings s;
+  std::string world_file;
+  bool quiet = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--quiet") {
+      quiet = true;
+      continue;
+    }
+    if (arg == "-h" || arg == "--help") return usage(), 0;
+    if (i + 1 >= argc) return usage();
+    const std::string v = argv[++i];
+    std::pair<std::string, std::string> kv;
+    if (arg == "--world") {
+      world_file = v;
+    } else if (arg == "--shots") {
+      s.shots = std::atoi(v.c_str());
+      if (s.shots <= 0 || s.shots > 100000) return usage();
+    } else if (arg == "--seeds") {
+      s.seeds.clear();
+      for (const std::string& x : split(v)) s.seeds.push_back(std::strtoull(x.c_str(), nullptr, 10));
+      if (s.seeds.empty()) return usage();
+    } else if (arg == "--policies") {
+      s.policies = split(v);
+      if (s.policies.empty()) return usage();
+    } else if (arg == "--keeper") {
+      s.keeper_robot = v;
+    } else if (arg == "--striker") {
+      s.striker_robot = v;
+    } else if (arg == "--keeper-plugin") {
+      s.keeper_plugin = v;
+    } else if (arg == "--striker-plugin") {
+      s.striker_plugin = v;
+    } else if (arg == "--keeper-option" && key_value(v, kv)) {
+      s.keeper_options.push_back(kv);
+    } else if (arg == "--striker-option" && key_value(v, kv)) {
+      s.striker_options.push_back(kv);
+    } else if (arg == "--plugin-path") {
+      s.plugin_path.push_back(v);
+    } else if (arg == "--timeout") {
+      s.shot_timeout_s = std::atof(v.c_str());
+      if (!(s.shot_timeout_s > 0)) return usage();
+    } else {
+      return usage();
+    }
+  }
+  WorldSpec world;
+  std::string error;
+  std::vector<Statement> statements;
+  const bool ok = world_file.empty() ? parse_config_text(standard_bench_world(), "standard-bench.world",
+                                                         statements, error) &&
+                                           read_world(statements, "standard-bench.world", world, error)
+                                     : load_world_file(world_file, world, error);
+  if (!ok) {
+    fprintf(stderr, "troupe-goalkeeper-bench: %s\n", error.c_str());
+    return 2;
+  }
+  std::vector<BenchCell> cells;
+  if (!run_goalkeeper_bench(world, s, cells, error, quiet ? nullptr : stderr)) {
+    fprintf(stderr, "troupe-goalkeeper-bench: %s\n", error.c_str());
+    return 1;
+  }
+  print_bench_table(cells, s, stdout);
+  return 0;
+}
