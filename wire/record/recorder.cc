@@ -64,6 +64,7 @@ bool Recorder::start(std::string& error) {
   auto& b = w.start();
   std::vector<flatbuffers::Offset<wire::DeviceInfo>> infos;
   for (const Device& d : devices_) {
+    // resolve() found every device in the list, so the list is not empty.
     for (const wire::DeviceInfo* info : *list->devices()) {
       if (info->addr() == nullptr || !(*info->addr() == d.addr)) continue;
       infos.push_back(wire::CreateDeviceInfo(

@@ -117,7 +117,8 @@ def parse_bfbs(data: bytes) -> Schema:
     objects = []
     for o in _tables(root, _SCHEMA_OBJECTS):
         shape = ObjectShape(_string(o, _OBJECT_NAME), _scalar(o, _OBJECT_IS_STRUCT, N.BoolFlags, False),
-                            _scalar(o, _OBJECT_BYTESIZE, N.Int32Flags, 0), _scalar(o, _OBJECT_MINALIGN, N.Int32Flags, 1))
+                            _scalar(o, _OBJECT_BYTESIZE, N.Int32Flags, 0),
+                            _scalar(o, _OBJECT_MINALIGN, N.Int32Flags, 1))
         for f in _tables(o, _OBJECT_FIELDS):
             if _scalar(f, _FIELD_DEPRECATED, N.BoolFlags, False):
                 continue
