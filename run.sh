@@ -12,7 +12,8 @@ cd "$(dirname "$0")"
 # What building needs, and what the tests need on top.
 BUILD_PACKAGES=(cmake ninja-build g++ libflatbuffers-dev flatbuffers-compiler)
 TEST_PACKAGES=(libgtest-dev clang-14 libclang-rt-14-dev
-  qemu-system-x86 busybox-static cpio iproute2)
+  qemu-system-x86 busybox-static cpio iproute2
+  g++-arm-linux-gnueabihf g++-aarch64-linux-gnu g++-powerpc-linux-gnu qemu-user)
 
 say() { printf '\n== %s\n' "$*"; }
 

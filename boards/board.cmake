@@ -3,30 +3,64 @@
 # follows from that list.
 #
 # A board file sets:
-#   BOARD_DRIVERS        driver folder names under drivers/
-#   BOARD_CONFIG_FORMAT  "json" (the node parses JSON configs at run time) or
-#                        "binary" (configs are compiled by flatc at build time
-#                        and the node carries no parser)
-#   BOARD_HOST_TOOLS     ON to also build the client, CLI, simulator and tests
-#   BOARD_NODE_CONFIGS   example node configs (JSON, relative to the board folder)
+#   BOARD_DRIVERS          driver folder names under drivers/, one a line
+#   BOARD_TOOLCHAIN        default toolchain: a file under toolchains/ without
+#                          .cmake, or "native" (read before project(), by
+#                          boards/toolchain.cmake)
+#   BOARD_CONFIG_FORMAT    "json" (the node parses JSON configs at run time) or
+#                          "binary" (configs are compiled by flatc at build time
+#                          and the node carries no parser)
+#   BOARD_HOST_TOOLS       ON to also build the client, CLI, simulator and tests
+#   BOARD_NODE_CONFIGS     node configs (JSON, relative to the board folder);
+#                          the first is the one the bundle's service runs
+#   BOARD_BUILD_TYPE       CMAKE_BUILD_TYPE when the command line gives none
+#   BOARD_COMPILE_OPTIONS  compile options of every target
+#   BOARD_LINK_OPTIONS     link options of every program
+#   BOARD_LTO              ON for link-time optimisation
+# The small boards share theirs in boards/small.cmake.
 
+# boards/toolchain.cmake checked that the board exists, before project().
 set(TROUPE_BOARD_DIR ${CMAKE_CURRENT_LIST_DIR}/${TROUPE_BOARD})
-if(NOT EXISTS ${TROUPE_BOARD_DIR}/board.cmake)
-  file(GLOB _boards RELATIVE ${CMAKE_CURRENT_LIST_DIR} ${CMAKE_CURRENT_LIST_DIR}/*/board.cmake)
-  string(REPLACE "/board.cmake" "" _boards "${_boards}")
-  message(FATAL_ERROR "No board '${TROUPE_BOARD}'. Boards: ${_boards}")
-endif()
 
 set(BOARD_DRIVERS "")
+set(BOARD_TOOLCHAIN native)
 set(BOARD_CONFIG_FORMAT "json")
 set(BOARD_HOST_TOOLS OFF)
 set(BOARD_NODE_CONFIGS "")
+set(BOARD_BUILD_TYPE "")
+set(BOARD_COMPILE_OPTIONS "")
+set(BOARD_LINK_OPTIONS "")
+set(BOARD_LTO OFF)
 include(${TROUPE_BOARD_DIR}/board.cmake)
 
 set(TROUPE_BOARD_DRIVERS ${BOARD_DRIVERS})
 set(TROUPE_BOARD_CONFIG_FORMAT ${BOARD_CONFIG_FORMAT})
 set(TROUPE_BOARD_HOST_TOOLS ${BOARD_HOST_TOOLS})
-message(STATUS "Board ${TROUPE_BOARD}: drivers [${TROUPE_BOARD_DRIVERS}], configs ${TROUPE_BOARD_CONFIG_FORMAT}")
+set(TROUPE_BOARD_NODE_CONFIGS ${BOARD_NODE_CONFIGS})
+if(CMAKE_CROSSCOMPILING)
+  set(_target ${TROUPE_TARGET_TRIPLE})
+else()
+  set(_target "native ${CMAKE_SYSTEM_PROCESSOR}")
+endif()
+message(STATUS "Board ${TROUPE_BOARD} (${_target}): drivers [${TROUPE_BOARD_DRIVERS}], configs ${TROUPE_BOARD_CONFIG_FORMAT}")
+
+if(NOT CMAKE_BUILD_TYPE AND BOARD_BUILD_TYPE)
+  set(CMAKE_BUILD_TYPE ${BOARD_BUILD_TYPE} CACHE STRING "Build type (from boards/${TROUPE_BOARD})" FORCE)
+endif()
+add_compile_options(${BOARD_COMPILE_OPTIONS})
+add_link_options(${BOARD_LINK_OPTIONS})
+if(BOARD_LTO AND NOT TROUPE_SANITIZE)
+  include(CheckIPOSupported)
+  check_ipo_supported(RESULT _lto OUTPUT _why LANGUAGES CXX)
+  if(_lto)
+    set(CMAKE_INTERPROCEDURAL_OPTIMIZATION ON)
+  else()
+    message(WARNING "Board ${TROUPE_BOARD} asks for link-time optimisation, which this compiler lacks: ${_why}")
+  endif()
+endif()
+
+include(${CMAKE_CURRENT_LIST_DIR}/target_packages.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/sysroot.cmake)
 
 # What the board's driver list turns into, written at configure time:
 #  - driver_options.fbs: the union of the drivers' option tables, which the

@@ -3,6 +3,8 @@
 set(BOARD_DRIVERS
   kinematic
   odrive_can
+  p2os
+  sicklms200
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

@@ -1,0 +1,7 @@
+# core: no drivers at all. The size reference: this build for armhf,
+# stripped, must stay within 64 KiB (tests/cross, label size).
+include(${CMAKE_CURRENT_LIST_DIR}/../small.cmake)
+set(BOARD_TOOLCHAIN arm-linux-gnueabihf)
+set(BOARD_DRIVERS
+)
+set(BOARD_NODE_CONFIGS nodes/core.json)

@@ -1,0 +1,15 @@
+# desktop: the desktop peer of a robot (x86-64 or whatever the host is). It
+# runs the abstract drivers that offload heavy work from the robot board:
+# remote devices passed through, localization, fusion, log replay, maps.
+# Reads JSON node configs; builds only troupe-node (no tests, simulator).
+set(BOARD_TOOLCHAIN native)
+set(BOARD_BUILD_TYPE Release)
+set(BOARD_CONFIG_FORMAT json)
+set(BOARD_DRIVERS
+  # passthrough  (arrives with the desktop-drivers issue)
+  # mcl
+  # fusion
+  # logreplay
+  # mapfile
+)
+set(BOARD_NODE_CONFIGS nodes/desktop.json)

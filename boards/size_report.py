@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""Builds troupe-node for every board and target and prints its size.
+
+For each row (a board built with a toolchain) the table gives the stripped
+file, its text + data (what `size` reports for the loaded image), the
+difference to the core on the same target, and each driver's share: the
+sizes of the symbols in its namespace, troupe::drivers::<driver>.
+
+    boards/size_report.py                     # every row, build/size-report
+    boards/size_report.py --only core         # the rows of one board
+    boards/size_report.py --build-root DIR    # build folders under DIR
+
+Builds are incremental: a second run only measures. The host build runs it
+as `cmake --build build/dev --target size-report`.
+"""
+
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# (board, toolchain or None for the board's own, build type or None for the
+# board's own). The core on every target is the reference of the others.
+ROWS = [
+    ("core", "arm-linux-gnueabihf", None),
+    ("core", "aarch64-linux-gnu", None),
+    ("core", "powerpc-linux-gnu", None),
+    ("core", "native", "MinSizeRel"),
+    ("pioneer-p3dx", None, None),
+    ("diffbot-can", None, None),
+    ("ppc-node", None, None),
+    ("desktop", None, None),
+    ("host", None, "Release"),
+]
+
+ARCH_NAMES = {
+    "arm-linux-gnueabihf": "armhf",
+    "aarch64-linux-gnu": "arm64",
+    "powerpc-linux-gnu": "powerpc",
+}
+
+
+def run(args, **kwargs):
+    return subprocess.run(args, check=True, text=True, **kwargs)
+
+
+def build(board, toolchain, build_type, root, jobs):
+    """Configures and builds troupe-node; returns the build's board.json."""
+    name = board if toolchain is None else f"{board}-{ARCH_NAMES.get(toolchain, toolchain)}"
+    folder = os.path.join(root, name)
+    args = ["cmake", "-S", SOURCE_DIR, "-B", folder, "-G", "Ninja", f"-DTROUPE_BOARD={board}"]
+    if toolchain is not None:
+        args.append(f"-DTROUPE_TOOLCHAIN={toolchain}")
+    if build_type is not None:
+        args.append(f"-DCMAKE_BUILD_TYPE={build_type}")
+    run(args, stdout=subprocess.DEVNULL)
+    run(["cmake", "--build", folder, "--target", "troupe-node", "-j", str(jobs)], stdout=subprocess.DEVNULL)
+    with open(os.path.join(folder, "board.json")) as f:
+        return json.load(f)
+
+
+def measure(facts):
+    """Sizes of the stripped node, bytes, and each driver's symbols."""
+    with tempfile.TemporaryDirectory() as tmp:
+        stripped = os.path.join(tmp, "troupe-node")
+        run([facts["strip"], "-o", stripped, facts["node"]])
+        file_bytes = os.path.getsize(stripped)
+        lines = run([facts["size"], "-B", stripped], capture_output=True).stdout.splitlines()
+        text, data, bss = (int(v) for v in lines[1].split()[:3])
+    symbols = run([facts["nm"], "-S", "-C", facts["node"]], capture_output=True).stdout
+    drivers = {d: 0 for d in facts["drivers"]}
+    pattern = re.compile(r"^[0-9a-f]+ ([0-9a-f]+) [tTdDrRbB] troupe::drivers::(\w+)::")
+    for line in symbols.splitlines():
+        m = pattern.match(line)
+        if m and m.group(2) in drivers:
+            drivers[m.group(2)] += int(m.group(1), 16)
+    return {"file": file_bytes, "text": text, "data": data, "bss": bss, "drivers": drivers}
+
+
+def target_name(facts):
+    if facts["cross"] == "TRUE":
+        return facts["deb_arch"]
+    return f"native {facts['deb_arch']}"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build-root", default=os.path.join(SOURCE_DIR, "build", "size-report"))
+    parser.add_argument("--only", action="append", help="board to report (repeatable)")
+    parser.add_argument("--jobs", type=int, default=2, help="parallel compile jobs (default 2)")
+    opts = parser.parse_args()
+
+    rows = []
+    for board, toolchain, build_type in ROWS:
+        if opts.only and board not in opts.only:
+            continue
+        compiler = None if toolchain in (None, "native") else f"{toolchain}-g++"
+        if compiler and shutil.which(compiler) is None:
+            print(f"size_report: skipping {board} for {toolchain}: {compiler} is not installed", file=sys.stderr)
+            continue
+        try:
+            facts = build(board, toolchain, build_type, opts.build_root, opts.jobs)
+        except subprocess.CalledProcessError as e:
+            print(f"size_report: {board} ({toolchain or 'its toolchain'}) did not build: {e}", file=sys.stderr)
+            return 1
+        rows.append((facts, measure(facts)))
+
+    core = {target_name(f): m for f, m in rows if f["board"] == "core"}
+    print("| board | target | build | stripped file, bytes | text + data, bytes | vs core | drivers (symbols, bytes) |")
+    print("|---|---|---|---:|---:|---:|---|")
+    for facts, m in rows:
+        target = target_name(facts)
+        image = m["text"] + m["data"]
+        ref = core.get(target)
+        delta = "" if ref is None or facts["board"] == "core" else f"{image - ref['text'] - ref['data']:+,}"
+        drivers = ", ".join(f"{d} {n:,}" for d, n in m["drivers"].items()) or "none"
+        print(f"| {facts['board']} | {target} | {facts['build_type'] or 'none'} | {m['file']:,} | {image:,} "
+              f"| {delta} | {drivers} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

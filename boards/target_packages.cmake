@@ -1,0 +1,9 @@
+# Target libraries a driver links, as Debian packages of the target
+# architecture: TROUPE_DRIVER_PACKAGES_<driver>. A cross build of a board
+# listing the driver unpacks them into <build>/sysroot
+# (toolchains/prepare-sysroot.sh); the packages not ending in -dev become
+# dependencies of the board's .deb. Drivers that need only libc and kernel
+# headers (kinematic, SocketCAN ones) have no entry.
+
+set(TROUPE_DRIVER_PACKAGES_p2os libserial-dev libserial1)
+set(TROUPE_DRIVER_PACKAGES_sicklms200 libserial-dev libserial1)

@@ -1,0 +1,262 @@
+#include "host-sim/emulators/sicklms200/sick_emulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace troupe::emulators {
+
+namespace sick = drivers::sicklms200;
+
+namespace {
+
+constexpr double kCentidegreeToRad = 3.14159265358979323846 / 18000.0;
+constexpr uint8_t kPassword[] = {'S', 'I', 'C', 'K', '_', 'L', 'M', 'S'};
+// A partial telegram is dropped after this long without a byte, us.
+constexpr uint64_t kTelegramGapUs = 50'000;
+// Mode change replies: done, refused (wrong password), not supported.
+constexpr uint8_t kModeOk = 0, kModeBadPassword = 1, kModeUnsupported = 2;
+
+bool valid_variant(uint16_t width, uint16_t res) {
+  if (width == 180) return res == 50 || res == 100;
+  if (width == 100) return res == 25 || res == 50 || res == 100;
+  return false;
+}
+
+}  // namespace
+
+void SickWorld::measure(double first, double step, std::span<float> ranges) {
+  for (size_t i = 0; i < ranges.size(); ++i)
+    ranges[i] = float(room.range(x, y, a + first + double(i) * step));
+}
+
+SickEmulator::SickEmulator(Config config, SickWorld* world)
+    : config_(std::move(config)),
+      world_(world ? world : &default_world_),
+      faults_(config_.seed),
+      inbound_faults_(config_.seed + 1),
+      baud_(config_.power_up_baud),
+      width_deg_(config_.width_deg),
+      resolution_cdeg_(config_.resolution_cdeg) {
+  config_block_[sick::kConfigUnits] = uint8_t(config_.units);
+}
+
+bool SickEmulator::open(const std::string& link, std::string& error) {
+  link_ = link;
+  return port_.open(link, error);
+}
+
+void SickEmulator::vanish() {
+  port_.close();
+}
+
+bool SickEmulator::reappear(std::string& error) {
+  scanner_.reset();
+  return port_.open(link_, error);
+}
+
+void SickEmulator::power_cycle() {
+  mode_ = Mode::Monitor;
+  baud_ = config_.power_up_baud;
+  pending_baud_ = 0;
+  queue_head_ = queue_size_ = 0;
+  scanner_.reset();
+}
+
+bool SickEmulator::baud_mismatch() const {
+  if (!config_.check_baud) return false;
+  uint32_t host = port_.host_baud();
+  return host != 0 && host != baud_;
+}
+
+void SickEmulator::step(uint64_t now_us) {
+  if (!started_) {
+    started_ = true;
+    last_step_us_ = last_byte_us_ = now_us;
+  }
+  uint8_t buf[256], heard[256];
+  bool heard_any = false;
+  for (size_t n; (n = port_.read(buf)) > 0; heard_any = true) {
+    std::span<uint8_t> bytes(heard, inbound_faults_.apply({buf, n}, heard));
+    if (baud_mismatch()) faults_.mangle(bytes);
+    uint32_t bad = scanner_.bad_crcs();
+    sick::scan_telegrams(scanner_, bytes, [this](std::span<const uint8_t> body) { obey(body); });
+    // A telegram that framed but failed its CRC is answered NACK.
+    if (scanner_.bad_crcs() != bad) send_byte(sick::kNack);
+  }
+  if (heard_any) {
+    last_byte_us_ = now_us;
+  } else if (scanner_.partial() && now_us - last_byte_us_ > kTelegramGapUs) {
+    sick::expire_telegrams(scanner_, [this](std::span<const uint8_t> body) { obey(body); });
+  }
+  drain(now_us);
+  if (mode_ == Mode::Continuous && queue_size_ == queue_head_ && pending_baud_ == 0 &&
+      now_us >= next_scan_us_) {
+    send_scan();
+    // Keep the scanner's own rhythm; after an idle spell, start it afresh.
+    uint64_t period = uint64_t(1e6 / config_.max_scan_rate_hz);
+    next_scan_us_ = next_scan_us_ + period > now_us ? next_scan_us_ + period : now_us + period;
+  }
+}
+
+void SickEmulator::drain(uint64_t now_us) {
+  // A UART sends baud / 10 bytes a second (8N1: ten bits a byte).
+  credit_bytes_ += double(now_us - last_step_us_) * 1e-6 * baud_ / 10.0;
+  last_step_us_ = now_us;
+  size_t queued = queue_size_ - queue_head_;
+  if (queued == 0) {
+    credit_bytes_ = std::min(credit_bytes_, 1.0);  // an idle line saves up nothing
+    if (pending_baud_ != 0) {
+      baud_ = pending_baud_;
+      pending_baud_ = 0;
+    }
+    return;
+  }
+  size_t n = std::min(queued, size_t(credit_bytes_));
+  if (n == 0) return;
+  credit_bytes_ -= double(n);
+  uint8_t* out = queue_ + queue_head_;
+  if (baud_mismatch()) faults_.mangle({out, n});
+  // What the pty does not take is lost, as bytes nobody reads are.
+  if (!mute_) port_.write({out, n});
+  queue_head_ += n;
+  if (queue_head_ == queue_size_) queue_head_ = queue_size_ = 0;
+}
+
+void SickEmulator::queue(std::span<const uint8_t> bytes) {
+  if (queue_head_ > 0) {
+    memmove(queue_, queue_ + queue_head_, queue_size_ - queue_head_);
+    queue_size_ -= queue_head_;
+    queue_head_ = 0;
+  }
+  size_t n = std::min(bytes.size(), kQueueBytes - queue_size_);
+  memcpy(queue_ + queue_size_, bytes.data(), n);
+  queue_size_ += n;
+}
+
+void SickEmulator::send_byte(uint8_t b) {
+  if (b == sick::kNack) ++nacks_sent_;
+  queue({&b, 1});
+}
+
+void SickEmulator::reply(uint8_t code, std::span<const uint8_t> data) {
+  sick::Telegram t;
+  if (!sick::make_reply(code, data, 0, t)) return;
+  uint8_t out[sick::kMaxTelegramBytes];
+  send_byte(sick::kAck);
+  queue({out, faults_.apply(t.view(), out)});
+}
+
+void SickEmulator::inject_noise(size_t bytes) {
+  uint8_t out[256];
+  while (bytes > 0) {
+    size_t n = std::min(bytes, sizeof out);
+    faults_.noise({out, n});
+    queue({out, n});
+    bytes -= n;
+  }
+}
+
+void SickEmulator::obey(std::span<const uint8_t> body) {
+  const uint8_t code = body[0];
+  std::span<const uint8_t> data = body.subspan(1);
+  switch (sick::Request(code)) {
+    case sick::Request::ModeChange:
+      return mode_change(data);
+    case sick::Request::OneScan:
+      if (mode_ == Mode::Installation) break;
+      send_byte(sick::kAck);
+      return send_scan();
+    case sick::Request::Status: {
+      const uint8_t status[1] = {0};
+      return reply(sick::reply_code(sick::Request::Status), status);
+    }
+    case sick::Request::Type:
+      return reply(sick::reply_code(sick::Request::Type),
+                   {reinterpret_cast<const uint8_t*>(config_.type.data()), config_.type.size()});
+    case sick::Request::Variant: {
+      if (data.size() != 4) break;
+      uint16_t width = uint16_t(data[0] | (data[1] << 8)), res = uint16_t(data[2] | (data[3] << 8));
+      bool ok = valid_variant(width, res);
+      if (ok) {
+        width_deg_ = width;
+        resolution_cdeg_ = res;
+      }
+      const uint8_t answer[5] = {uint8_t(ok ? 1 : 0), uint8_t(width_deg_ & 0xFF), uint8_t(width_deg_ >> 8),
+                                 uint8_t(resolution_cdeg_ & 0xFF), uint8_t(resolution_cdeg_ >> 8)};
+      return reply(sick::reply_code(sick::Request::Variant), answer);
+    }
+    case sick::Request::ReadConfig:
+      return reply(sick::reply_code(sick::Request::ReadConfig), config_block_);
+    case sick::Request::WriteConfig: {
+      // The configuration is written only in configuration mode.
+      if (mode_ != Mode::Installation || data.size() != sick::kConfigBytes) break;
+      bool ok = data[sick::kConfigUnits] <= uint8_t(Units::Decimetres);
+      if (ok) std::copy(data.begin(), data.end(), config_block_);
+      uint8_t answer[1 + sick::kConfigBytes] = {uint8_t(ok ? 1 : 0)};
+      std::copy(std::begin(config_block_), std::end(config_block_), answer + 1);
+      return reply(sick::reply_code(sick::Request::WriteConfig), answer);
+    }
+  }
+  send_byte(sick::kNack);
+}
+
+void SickEmulator::mode_change(std::span<const uint8_t> data) {
+  uint8_t result = kModeOk;
+  if (data.empty()) {
+    result = kModeUnsupported;
+  } else {
+    switch (sick::Mode(data[0])) {
+      case sick::Mode::Config:
+        if (data.size() == 1 + sizeof kPassword && std::equal(data.begin() + 1, data.end(), kPassword)) {
+          mode_ = Mode::Installation;
+        } else {
+          result = kModeBadPassword;
+        }
+        break;
+      case sick::Mode::Baud9600:
+        pending_baud_ = 9600;
+        break;
+      case sick::Mode::Baud38400:
+        pending_baud_ = 38400;
+        break;
+      case sick::Mode::Baud500000:
+        pending_baud_ = 500000;
+        break;
+      case sick::Mode::Continuous:
+        mode_ = Mode::Continuous;
+        break;
+      case sick::Mode::StopContinuous:
+        mode_ = Mode::Monitor;
+        break;
+      default:
+        result = kModeUnsupported;
+        break;
+    }
+  }
+  const uint8_t answer[1] = {result};
+  reply(sick::reply_code(sick::Request::ModeChange), answer);
+}
+
+void SickEmulator::send_scan() {
+  size_t count = size_t(width_deg_) * 100 / resolution_cdeg_ + 1;
+  float ranges_m[sick::kMaxScanValues];
+  double first = -double(width_deg_) * 50 * kCentidegreeToRad;
+  world_->measure(first, resolution_cdeg_ * kCentidegreeToRad, {ranges_m, count});
+  Units units = this->units();
+  double per_metre = units == Units::Millimetres ? 1000.0 : units == Units::Centimetres ? 100.0 : 10.0;
+  for (size_t i = 0; i < count; ++i) {
+    double v = std::round(double(ranges_m[i]) * per_metre);
+    last_scan_[i] = v >= sick::kNoReturn || !std::isfinite(v) ? sick::kNoReturn : uint16_t(std::max(v, 0.0));
+  }
+  last_count_ = count;
+  uint8_t data[2 + 2 * sick::kMaxScanValues];
+  size_t size = sick::write_scan({last_scan_, count}, units, data);
+  sick::Telegram t;
+  if (size == 0 || !sick::make_reply(sick::kScanReply, {data, size}, 0, t)) return;
+  uint8_t out[sick::kMaxTelegramBytes];
+  queue({out, faults_.apply(t.view(), out)});
+  ++scans_sent_;
+}
+
+}  // namespace troupe::emulators

@@ -1,0 +1,136 @@
+// The bundles a board build packs (cpack): unpacked into a fresh folder,
+// they hold troupe-node, the board's compiled node config and a systemd unit
+// naming both; the node starts from there under qemu-user with the bundled
+// config and a host client lists its devices.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstdio>
+
+#include "tests/cross/qemu_node.h"
+#include "wire/client/client.h"
+
+namespace troupe::cross {
+namespace {
+
+bool exists(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0;
+}
+
+// The value after `key=` on the unit's line starting with `key=`.
+std::string unit_value(const std::string& unit, const std::string& key) {
+  size_t at = unit.find("\n" + key + "=");
+  if (at == std::string::npos) return "";
+  at += key.size() + 2;
+  return unit.substr(at, unit.find('\n', at) - at);
+}
+
+struct Bundle {
+  const char* build;
+  const char* kind;  // "tar.gz" or "deb"
+  size_t devices;
+  // Another of the bundle's configs to start with, run by the ODrive
+  // emulator: the default one needs a CAN bus this machine lacks.
+  const char* emulated_config = nullptr;
+};
+
+class BundleTest : public ::testing::TestWithParam<Bundle> {
+ protected:
+  void TearDown() override {
+    std::string ignored;
+    if (!dir_.empty()) run("rm -rf " + quote(dir_), ignored);
+  }
+  std::string dir_;
+};
+
+TEST_P(BundleTest, StartsFromItsUnpackedFolder) {
+  const Bundle& p = GetParam();
+  CrossBuild b;
+  if (std::string why; !load_cross_build(p.build, b, why)) {
+    GTEST_SKIP() << why;
+  }
+  std::string package = b.path("troupe-node-" + b.board + "-0.1.0-" + b.deb_arch + "." + p.kind);
+  ASSERT_TRUE(exists(package)) << package;
+  dir_ = make_temp_dir("bundle-" + b.name);
+  std::string out;
+  if (std::string(p.kind) == "deb") {
+    ASSERT_EQ(run("dpkg-deb -x " + quote(package) + " " + quote(dir_) + " 2>&1", out), 0) << out;
+    ASSERT_EQ(run("dpkg-deb -f " + quote(package) + " Package Architecture Depends 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("Package: troupe-node-" + b.board), std::string::npos) << out;
+    EXPECT_NE(out.find("Architecture: " + b.deb_arch), std::string::npos) << out;
+    EXPECT_NE(out.find("libc6"), std::string::npos) << out;
+  } else {
+    ASSERT_EQ(run("tar -xzf " + quote(package) + " -C " + quote(dir_) + " 2>&1", out), 0) << out;
+  }
+
+  // The unit names the binary and the config where the bundle puts them.
+  std::string unit = read_text(dir_ + "/usr/lib/systemd/system/troupe-node.service");
+  ASSERT_FALSE(unit.empty()) << "no systemd unit in " << package;
+  std::string exec = unit_value(unit, "ExecStart");
+  std::string binary = exec.substr(0, exec.find(' '));
+  std::string config = unit_value(unit, "Environment");
+  ASSERT_EQ(config.rfind("TROUPE_NODE_CONFIG=", 0), 0u) << unit;
+  config = config.substr(config.find('=') + 1);
+  EXPECT_EQ(binary, "/usr/bin/troupe-node");
+  EXPECT_NE(exec.find("${TROUPE_NODE_CONFIG}"), std::string::npos) << exec;
+  EXPECT_NE(unit.find("WantedBy=multi-user.target"), std::string::npos);
+  ASSERT_TRUE(exists(dir_ + binary)) << binary;
+  ASSERT_TRUE(exists(dir_ + config)) << config;
+
+  // systemd reads the unit without a complaint (with the binary's path
+  // moved to where the bundle was unpacked: verify checks it exists).
+  if (run("command -v systemd-analyze", out) == 0) {
+    std::string copy = dir_ + "/troupe-node.service";
+    FILE* f = fopen(copy.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::string moved = unit;
+    moved.replace(moved.find(binary), binary.size(), dir_ + binary);
+    fputs(moved.c_str(), f);
+    fclose(f);
+    EXPECT_EQ(run("systemd-analyze verify " + quote(copy) + " 2>&1", out), 0) << out;
+    EXPECT_EQ(out, "");
+  } else {
+    printf("systemd-analyze is not installed: the unit's syntax is not checked\n");
+  }
+
+  // The bundled binary is stripped: no symbol table left.
+  ASSERT_EQ(run(quote(b.readelf) + " -S " + quote(dir_ + binary), out), 0);
+  EXPECT_EQ(out.find(".symtab"), std::string::npos);
+
+  QemuNode node;
+  QemuNode::Extras extras;
+  if (p.emulated_config != nullptr) {
+    config = config.substr(0, config.rfind('/') + 1) + p.emulated_config;
+    ASSERT_TRUE(exists(dir_ + config)) << config;
+    extras.wrapper = {TROUPE_ODRIVE_EMU, "--status-ms", "0", "--"};
+  }
+  std::string error;
+  ASSERT_TRUE(node.start(b, dir_ + binary, dir_ + config, error, extras)) << error;
+  client::Client::Options options;
+  options.reconnect = false;
+  client::Client c("127.0.0.1", node.port(), options);
+  ASSERT_TRUE(c.connect()) << c.error();
+  EXPECT_EQ(c.node_name(), b.board);
+  std::vector<client::DeviceEntry> devices;
+  ASSERT_TRUE(c.device_list(devices)) << c.error();
+  EXPECT_EQ(devices.size(), p.devices);
+  EXPECT_EQ(node.stop(), 0) << node.log();
+}
+
+INSTANTIATE_TEST_SUITE_P(Boards, BundleTest,
+                         ::testing::Values(Bundle{"core-armhf", "deb", 0}, Bundle{"core-armhf", "tar.gz", 0},
+                                           Bundle{"ppc-node-armhf", "deb", 1},
+                                           Bundle{"ppc-node-powerpc", "tar.gz", 1},
+                                           Bundle{"diffbot-can-arm64", "deb", 2, "diffbot-can-emulated.bin"}),
+                         [](const auto& param_info) {
+                           std::string name =
+                               std::string(param_info.param.build) + "_" + param_info.param.kind;
+                           for (char& c : name) {
+                             if (c == '-' || c == '.') c = '_';
+                           }
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace troupe::cross

@@ -1,0 +1,62 @@
+// A wire protocol client for tests: loopback TCP, never blocking. poll()
+// takes whatever frames have arrived and files them: the newest Data frame
+// and a count per device, replies by sequence number.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "wire/frame.h"
+#include "wire/writer.h"
+
+namespace troupe::testing {
+
+class WireClient {
+ public:
+  WireClient() = default;
+  ~WireClient();
+  WireClient(const WireClient&) = delete;
+  WireClient& operator=(const WireClient&) = delete;
+
+  bool connect(uint16_t port, std::string& error);
+  /// Opens a device for reading and writing (data pushed).
+  void open(const wire::Address& addr);
+  /// Commands a velocity: m/s forward, rad/s.
+  void send_vel(const wire::Address& addr, float v, float w);
+  /// Sends a request; the builder fills the body (may be empty). Returns
+  /// the sequence number the reply will carry.
+  uint32_t request(const wire::Address& addr, uint8_t subtype, wire::Body type = wire::Body::NONE,
+                   flatbuffers::Offset<void> (*build)(flatbuffers::FlatBufferBuilder&) = nullptr);
+  uint32_t request_switch(const wire::Address& addr, uint8_t subtype, bool on);
+
+  /// Reads and files every frame that has arrived.
+  void poll();
+
+  /// Data frames received from `addr` so far.
+  uint32_t count(const wire::Address& addr) const;
+  /// The newest Data message from `addr`, or nullptr.
+  const wire::Message* last(const wire::Address& addr) const;
+  /// The reply (Ack or Nack) to request `seq`, or nullptr.
+  const wire::Message* reply(uint32_t seq) const;
+  /// The connection ended or broke.
+  bool closed() const { return closed_; }
+
+ private:
+  void send(std::span<const uint8_t> frame);
+
+  int fd_ = -1;
+  bool closed_ = false;
+  uint32_t seq_ = 0;
+  wire::FrameReader reader_{1u << 20};
+  wire::MessageWriter writer_;
+  struct Log {
+    uint32_t count = 0;
+    std::vector<uint8_t> last;
+  };
+  std::map<uint64_t, Log> data_;
+  std::map<uint32_t, std::vector<uint8_t>> replies_;
+};
+
+}  // namespace troupe::testing
