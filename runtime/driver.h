@@ -64,6 +64,11 @@ class Driver : public FdHandler, public TimerHandler {
   /// Data published by a device this driver subscribed to (Node::subscribe).
   virtual void on_data(DeviceId /*source*/, const wire::Message& /*data*/) {}
 
+  /// The reply (Ack or Nack, with the request's subtype and seq) to a
+  /// request this driver sent to `device` with Node::request(). The message
+  /// is valid during the call only.
+  virtual void on_reply(DeviceId /*device*/, const wire::Message& /*reply*/) {}
+
   void on_fd(int /*fd*/, uint32_t /*events*/) override {}
   void on_timer(TimerId /*id*/) override {}
 

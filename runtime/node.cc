@@ -302,13 +302,13 @@ void Node::handle_request(uint32_t client, DeviceId id, const wire::Message& msg
     return reply_status(client, h, Kind::Nack, ErrorCode::Denied, "device opened read-only by this client");
   }
   uint32_t slot = 0;
-  while (slot < pending_.size() && pending_[slot].active) ++slot;
-  if (slot == pending_.size() || dev.driver == nullptr) {
+  if (dev.driver == nullptr || !claim_request_slot(slot)) {
     return reply_status(client, h, Kind::Nack, ErrorCode::DeviceFailed,
                         dev.driver ? "too many requests pending" : "device has no driver");
   }
   Pending& p = pending_[slot];
   p.active = true;
+  p.requester = nullptr;
   p.client = client;
   p.client_generation = server_->generation(client);
   p.device = id;
@@ -317,6 +317,43 @@ void Node::handle_request(uint32_t client, DeviceId id, const wire::Message& msg
   p.deadline_us = now_us() + uint64_t(options_.request_timeout_ms) * 1000u;
   arm_request_timer();
   dev.driver->on_request(id, msg, RequestToken{slot, p.generation});
+}
+
+bool Node::claim_request_slot(uint32_t& slot) {
+  slot = 0;
+  while (slot < pending_.size() && pending_[slot].active) ++slot;
+  return slot < pending_.size();
+}
+
+bool Node::request(DeviceId id, uint8_t subtype, uint32_t seq, Body type, flatbuffers::Offset<void> body,
+                   Driver* from) {
+  Device& dev = devices_[id];
+  uint32_t slot = 0;
+  if (dev.driver == nullptr || from == nullptr || !claim_request_slot(slot)) return false;
+  // A copy: the target builds its reply in writer_, where this request is.
+  auto built = writer_.finish(wire::make_header(dev.addr, Kind::Request, subtype, seq, now_us()), type, body);
+  std::vector<uint8_t> frame(built.begin(), built.end());
+  Pending& p = pending_[slot];
+  p.active = true;
+  p.requester = from;
+  p.client = 0;
+  p.client_generation = 0;
+  p.device = id;
+  p.subtype = subtype;
+  p.seq = seq;
+  p.deadline_us = now_us() + uint64_t(options_.request_timeout_ms) * 1000u;
+  uint32_t generation = p.generation;
+  arm_request_timer();
+  dev.driver->on_request(id, *wire::trusted_message(frame), RequestToken{slot, generation});
+  return true;
+}
+
+void Node::reply_to_driver(Pending& p, std::span<const uint8_t> frame) {
+  // A copy, so the requester may build its next request while reading this.
+  std::vector<uint8_t> copy(frame.begin(), frame.end());
+  Driver* to = p.requester;
+  p.requester = nullptr;
+  to->on_reply(p.device, *wire::trusted_message(copy));
 }
 
 DeviceId Node::request_device(RequestToken token) const {
@@ -330,9 +367,10 @@ void Node::ack(RequestToken token, Body type, flatbuffers::Offset<void> body) {
   Pending& p = pending_[token.slot];
   p.active = false;
   ++p.generation;
-  if (!server_->alive(p.client, p.client_generation)) return;
+  if (p.requester == nullptr && !server_->alive(p.client, p.client_generation)) return;
   auto frame =
       writer_.finish(wire::make_header(devices_[p.device].addr, Kind::Ack, p.subtype, p.seq, now_us()), type, body);
+  if (p.requester != nullptr) return reply_to_driver(p, frame);
   server_->send_reliable(p.client, frame);
 }
 
@@ -341,6 +379,14 @@ void Node::nack(RequestToken token, ErrorCode code, std::string_view why) {
   Pending& p = pending_[token.slot];
   p.active = false;
   ++p.generation;
+  if (p.requester != nullptr) {
+    auto& b = reply_writer_.start();
+    auto body = wire::CreateError(b, code, b.CreateString(why.data(), why.size()));
+    auto frame = reply_writer_.finish(
+        wire::make_header(devices_[p.device].addr, Kind::Nack, p.subtype, p.seq, now_us()), Body::Error,
+        body.Union());
+    return reply_to_driver(p, frame);
+  }
   if (!server_->alive(p.client, p.client_generation)) return;
   wire::Header to = wire::make_header(devices_[p.device].addr, Kind::Nack, p.subtype, p.seq, 0);
   reply_status(p.client, to, Kind::Nack, code, why);
@@ -379,8 +425,11 @@ void Node::send_device_list(uint32_t client, const wire::Message& msg) {
   std::vector<flatbuffers::Offset<wire::DeviceInfo>> infos;
   infos.reserve(devices_.size());
   for (const Device& dev : devices_) {
-    infos.push_back(wire::CreateDeviceInfo(b, &dev.addr, b.CreateString(dev.robot_name),
-                                           b.CreateString(dev.driver_name)));
+    // Strings first, in a fixed order: as two arguments of one call their
+    // order would be up to the compiler, and so would the frame's bytes.
+    auto robot = b.CreateString(dev.robot_name);
+    auto driver = b.CreateString(dev.driver_name);
+    infos.push_back(wire::CreateDeviceInfo(b, &dev.addr, robot, driver));
   }
   auto body = wire::CreateDeviceList(b, b.CreateVector(infos));
   const wire::Header& h = *msg.header();

@@ -103,6 +103,15 @@ class Node final : public TimerHandler {
   void publish(DeviceId device, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body,
                uint64_t time_us = 0);
 
+  /// Sends a request with the body built since begin() to another driver's
+  /// `device` on behalf of `from` (a driver's "requires", e.g. mcl asking the
+  /// map for its tiles). Exactly one reply comes back through
+  /// from->on_reply(): the target's Ack or Nack, or a Nack Timeout. It may
+  /// come before this returns. False when no request slot is free or the
+  /// device has no driver (then no reply comes).
+  bool request(DeviceId device, uint8_t subtype, uint32_t seq, wire::Body type,
+               flatbuffers::Offset<void> body, Driver* from);
+
   /// Replies Ack with the body built since begin() (or none).
   void ack(RequestToken token, wire::Body type = wire::Body::NONE,
            flatbuffers::Offset<void> body = 0);
@@ -148,6 +157,7 @@ class Node final : public TimerHandler {
     uint32_t client = 0;
     uint32_t client_generation = 0;
     DeviceId device = kNoDevice;
+    Driver* requester = nullptr;  // a driver's request (Node::request), not a client's
     uint8_t subtype = 0;
     uint32_t seq = 0;
     uint64_t deadline_us = 0;
@@ -170,6 +180,8 @@ class Node final : public TimerHandler {
   void deliver_commands();
   void forget_client(uint32_t client);
   void arm_request_timer();
+  bool claim_request_slot(uint32_t& slot);
+  void reply_to_driver(Pending& p, std::span<const uint8_t> frame);
   Reader* find_reader(Device& dev, uint32_t client);
   int slot_for(Device& dev, uint8_t subtype);
 

@@ -43,7 +43,7 @@ bool parse_address(const char* text, wire::Address& out, std::string& error) {
   if (!wire::parse_device(text, spec, error)) return false;
   int robot = wire::robot_number(spec.robot);
   if (robot < 0) {
-    error = "'" + std::string(text) + "': a node names robots by number (robot names are troupe-sim's)";
+    error = "device '" + std::string(text) + "': a node names robots by number (robot names are troupe-sim's)";
     return false;
   }
   out = wire::Address(uint16_t(robot), uint16_t(spec.iface), spec.index);

@@ -26,7 +26,7 @@ bool parse_device(std::string_view text, DeviceSpec& out, std::string& error) {
   }
   auto colon = rest.rfind(':');
   if (colon == std::string_view::npos) {
-    error = "'" + std::string(text) + "' is not [ROBOT/]INTERFACE:INDEX (e.g. position2d:0)";
+    error = "address '" + std::string(text) + "' is not [ROBOT/]INTERFACE:INDEX (e.g. position2d:0)";
     return false;
   }
   std::string_view name = rest.substr(0, colon);

@@ -6,10 +6,10 @@ set(BOARD_TOOLCHAIN native)
 set(BOARD_BUILD_TYPE Release)
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_DRIVERS
-  # passthrough  (arrives with the desktop-drivers issue)
-  # mcl
-  # fusion
-  # logreplay
-  # mapfile
+  # passthrough  (arrives with the offload work)
+  mcl
+  fusion
+  logreplay
+  mapfile
 )
 set(BOARD_NODE_CONFIGS nodes/desktop.json)

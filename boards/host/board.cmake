@@ -5,6 +5,10 @@ set(BOARD_DRIVERS
   odrive_can
   p2os
   sicklms200
+  logreplay
+  mapfile
+  mcl
+  fusion
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

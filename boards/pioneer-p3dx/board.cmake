@@ -3,7 +3,7 @@
 include(${CMAKE_CURRENT_LIST_DIR}/../small.cmake)
 set(BOARD_TOOLCHAIN arm-linux-gnueabihf)
 set(BOARD_DRIVERS
-  # p2os        (arrives with the hardware-drivers issue)
-  # sicklms200  (arrives with the hardware-drivers issue)
+  p2os
+  sicklms200
 )
-set(BOARD_NODE_CONFIGS nodes/pioneer-p3dx.json)
+set(BOARD_NODE_CONFIGS ../../examples/nodes/pioneer-p3dx.json)

@@ -87,8 +87,10 @@ void Recorder::publish_scan(float range_m) {
   auto vec = b.CreateUninitializedVector<uint16_t>(181, &ranges);
   std::fill(ranges, ranges + 181, uint16_t(range_m * 1000));
   auto body = wire::CreateRangerScan(b, vec, 0.001f, -1.5708f, 0.017453f, 8.0f);
-  node_->publish(device_, uint8_t(wire::RangerDataSub::Scan), wire::Body::RangerScan, body.Union());
+  // Counted before the send: a client may see the scan before this thread
+  // runs its next line.
   published.fetch_add(1);
+  node_->publish(device_, uint8_t(wire::RangerDataSub::Scan), wire::Body::RangerScan, body.Union());
 }
 
 Node::Options test_options() {

@@ -1,0 +1,189 @@
+// swarm-clients: the swarm controller over the wire. One client connection
+// per robot (as if each robot's brain were a separate program), all in one
+// poll loop through the C++ client library. Robots are every robot of the
+// simulator that has position2d:0 and ranger:0 (and fiducial:0 to see its
+// neighbours). At the end it stops the robots and prints how far each is from
+// its nearest neighbour on average, from the simulator's ground truth.
+//
+//   troupe-sim examples/worlds/swarm100.world --no-ctrl &
+//   swarm-clients localhost --seconds 60
+#include <poll.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "examples/controllers/swarm/swarm_logic.h"
+#include "wire/address.h"
+#include "wire/client/proxies.h"
+
+namespace {
+
+using troupe::client::Client;
+using troupe::examples::SwarmParams;
+
+struct Robot {
+  std::string name;
+  uint16_t number = 0;
+  std::unique_ptr<Client> client;
+  std::unique_ptr<troupe::client::Position2dProxy> base;
+  std::unique_ptr<troupe::client::RangerProxy> ranger;
+  std::unique_ptr<troupe::client::FiducialProxy> fiducial;
+  troupe::examples::SwarmInputs in;
+  troupe::examples::SwarmState state;
+};
+
+double mean_distance(troupe::client::SimulationProxy& sim, const std::vector<Robot>& robots) {
+  std::vector<troupe::client::Pose2> p(robots.size());
+  for (size_t i = 0; i < robots.size(); ++i) {
+    if (!sim.get_pose(robots[i].name, p[i])) return -1;
+  }
+  // Each robot's distance to its nearest neighbour, averaged: it shrinks as
+  // clusters form and grows as robots spread out.
+  double sum = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    double nearest = 1e9;
+    for (size_t j = 0; j < p.size(); ++j) {
+      if (j != i) nearest = std::min(nearest, double(std::hypot(p[i].x - p[j].x, p[i].y - p[j].y)));
+    }
+    sum += nearest;
+  }
+  return p.size() > 1 ? sum / double(p.size()) : 0;
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: swarm-clients [HOST[:PORT]] [--seconds S] [--disperse] [--spacing M] [--seed N]\n"
+               "Drives every robot of a troupe-sim world with the swarm behaviour, one client each.\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string host = "localhost";
+  double seconds = 30;
+  SwarmParams params;
+  params.spacing = 0.6;
+  unsigned seed = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--seconds" && i + 1 < argc) {
+      seconds = std::atof(argv[++i]);
+    } else if (a == "--spacing" && i + 1 < argc) {
+      params.spacing = std::atof(argv[++i]);
+    } else if (a == "--seed" && i + 1 < argc) {
+      seed = unsigned(std::atoi(argv[++i]));
+    } else if (a == "--disperse") {
+      params.aggregate = false;
+    } else if (a[0] == '-') {
+      return usage();
+    } else {
+      host = a;
+    }
+  }
+  troupe::wire::HostPort hp;
+  std::string error;
+  if (!troupe::wire::parse_host(host, hp, error)) {
+    std::fprintf(stderr, "swarm-clients: %s\n", error.c_str());
+    return 2;
+  }
+  Client admin(hp.host, hp.port);
+  if (!admin.connect()) {
+    std::fprintf(stderr, "swarm-clients: cannot connect to %s: %s\n", host.c_str(), admin.error().c_str());
+    return 1;
+  }
+  std::vector<troupe::client::DeviceEntry> devices;
+  if (!admin.device_list(devices)) return 1;
+  std::vector<Robot> robots;
+  for (const auto& d : devices) {
+    if (d.addr.iface() != uint16_t(troupe::wire::Interface::Position2d) || d.addr.index() != 0) continue;
+    bool ranger = false, fiducial = false;
+    for (const auto& e : devices) {
+      if (e.addr.robot() != d.addr.robot() || e.addr.index() != 0) continue;
+      ranger = ranger || e.addr.iface() == uint16_t(troupe::wire::Interface::Ranger);
+      fiducial = fiducial || e.addr.iface() == uint16_t(troupe::wire::Interface::Fiducial);
+    }
+    if (!ranger || (params.aggregate && !fiducial)) continue;
+    Robot r;
+    r.name = d.robot_name;
+    r.number = d.addr.robot();
+    r.in.has_fiducial = fiducial;
+    robots.push_back(std::move(r));
+  }
+  if (robots.empty()) {
+    std::fprintf(stderr, "swarm-clients: no robot with position2d:0, ranger:0 and fiducial:0 at %s\n",
+                 host.c_str());
+    return 1;
+  }
+  // One connection per robot, each opening its robot's devices.
+  for (Robot& r : robots) {
+    Client::Options o;
+    o.name = "swarm-" + r.name;
+    r.client = std::make_unique<Client>(hp.host, hp.port, o);
+    if (!r.client->connect()) {
+      std::fprintf(stderr, "swarm-clients: %s: %s\n", r.name.c_str(), r.client->error().c_str());
+      return 1;
+    }
+    r.base = std::make_unique<troupe::client::Position2dProxy>(*r.client, 0, r.number);
+    r.ranger = std::make_unique<troupe::client::RangerProxy>(*r.client, 0, r.number);
+    if (r.in.has_fiducial)
+      r.fiducial = std::make_unique<troupe::client::FiducialProxy>(*r.client, 0, r.number);
+    troupe::wire::Pose3d pose;
+    std::vector<troupe::wire::Pose3d> elements;
+    if (!r.ranger->geometry(pose, elements)) return 1;
+    for (const auto& e : elements) r.in.bearings.push_back(e.yaw());
+  }
+  troupe::client::SimulationProxy sim(admin);
+  const double before = mean_distance(sim, robots);
+  std::printf("%zu robots, %zu connections; mean distance at the start %.2f m\n", robots.size(),
+              robots.size() + 1, before);
+  std::fflush(stdout);
+
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  auto random = [&](int) { return uniform(rng); };
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  std::vector<pollfd> fds;
+  size_t decisions = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    fds.clear();
+    std::vector<int> counts;
+    for (Robot& r : robots) {
+      pollfd f[2];
+      int n = r.client->poll_fds(f, 2);
+      counts.push_back(n);
+      fds.insert(fds.end(), f, f + n);
+    }
+    poll(fds.data(), nfds_t(fds.size()), 50);
+    size_t at = 0;
+    for (size_t i = 0; i < robots.size(); ++i) {
+      robots[i].client->process(fds.data() + at, counts[i]);
+      at += size_t(counts[i]);
+    }
+    // A decision whenever a robot's ranger has a new sample.
+    for (Robot& r : robots) {
+      if (!r.ranger->fresh()) continue;
+      r.in.ranges = r.ranger->ranges();
+      r.in.neighbours.clear();
+      if (r.fiducial) {
+        for (const auto& f : r.fiducial->fiducials()) r.in.neighbours.push_back({f.x(), f.y()});
+      }
+      const auto c = troupe::examples::swarm_decide(params, r.in, r.state, random);
+      r.base->set_velocity(float(c.v), 0, float(c.w));
+      ++decisions;
+    }
+  }
+  for (Robot& r : robots) r.base->set_velocity(0, 0, 0);
+  for (Robot& r : robots) r.client->sync();
+  const double after = mean_distance(sim, robots);
+  std::printf("%zu decisions; mean distance at the end %.2f m (%s)\n", decisions, after,
+              params.aggregate ? "aggregate" : "disperse");
+  return before < 0 || after < 0 ? 1 : 0;
+}

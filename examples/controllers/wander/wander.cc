@@ -1,0 +1,114 @@
+// wander: ranger-based obstacle avoidance. Cruises forward, drifting towards
+// the more open side; when something is close ahead it turns on the spot,
+// towards the more open side, for a while; now and then it picks a new
+// heading at random (the run's seeded random numbers).
+//
+//   ctrl "wander"                      # defaults
+//   ctrl "wander speed=0.4 turn=1.0 avoid=0.5 ranger=1"
+//
+// speed: cruising speed, m/s. turn: turn rate when avoiding, rad/s.
+// avoid: distance ahead that makes it turn, m. ranger: which ranger to use
+// (default: the one with the most beams, e.g. a Pioneer's laser).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "host-sim/sim/controller.h"
+
+namespace troupe::examples {
+namespace {
+
+using sim::Command;
+using sim::RobotHandle;
+using sim::SensorKind;
+
+constexpr double kPi = 3.14159265358979323846;
+
+class Wander final : public sim::Controller {
+ public:
+  Wander(double speed, double turn, double avoid, int ranger)
+      : speed_(speed), turn_(turn), avoid_(avoid), ranger_(ranger) {}
+
+  bool init(RobotHandle& robot, std::string& error) override {
+    const uint32_t n = robot.count(SensorKind::Ranger);
+    if (n == 0) {
+      error = "wander needs a ranger";
+      return false;
+    }
+    if (ranger_ < 0) {
+      size_t most = 0;
+      for (uint32_t k = 0; k < n; ++k) {
+        size_t beams = 0;
+        for (const auto& t : robot.ranger_desc(k).transducers) beams += size_t(std::max(1, t.samples));
+        if (beams > most) {
+          most = beams;
+          ranger_ = int(k);
+        }
+      }
+    }
+    if (ranger_ >= int(n)) {
+      error = "wander: the robot has no ranger " + std::to_string(ranger_);
+      return false;
+    }
+    // Each beam's bearing on the robot, as the ranger spreads its samples.
+    for (const auto& t : robot.ranger_desc(uint32_t(ranger_)).transducers) {
+      const int s = std::max(1, t.samples);
+      for (int i = 0; i < s; ++i) {
+        bearings_.push_back(
+            std::remainder(t.pose.a + (s > 1 ? -t.fov / 2 + t.fov * i / (s - 1) : 0.0), 2 * kPi));
+      }
+    }
+    robot.want(SensorKind::Ranger, uint32_t(ranger_), true);
+    return true;
+  }
+
+  void update(RobotHandle& robot) override {
+    const sim::RangerView scan = robot.ranger(uint32_t(ranger_));
+    if (scan.step == UINT64_MAX || scan.ranges.size() != bearings_.size()) {
+      robot.command(Command::velocity(0, 0, 0));  // no data yet
+      return;
+    }
+    double ahead = 1e9, left = 1e9, right = 1e9;
+    for (size_t i = 0; i < bearings_.size(); ++i) {
+      const double b = bearings_[i], r = scan.ranges[i];
+      if (std::fabs(b) < 35 * kPi / 180) ahead = std::min(ahead, r);
+      if (b > 0 && b <= kPi / 2) left = std::min(left, r);
+      if (b < 0 && b >= -kPi / 2) right = std::min(right, r);
+    }
+    if (avoiding_ > 0 || ahead < avoid_ || robot.state().stalled) {
+      if (avoiding_ == 0) {
+        direction_ = left > right ? 1.0 : -1.0;
+        avoiding_ = 5 + int(robot.uniform(0) * 10);
+      }
+      --avoiding_;
+      robot.command(Command::velocity(0, 0, direction_ * turn_));
+      return;
+    }
+    if (--wiggle_ <= 0) {
+      wiggle_ = 20 + int(robot.uniform(1) * 30);
+      bias_ = (robot.uniform(2) - 0.5) * turn_;
+    }
+    const double drift = std::clamp(0.5 * (std::min(left, 2.0) - std::min(right, 2.0)), -0.5, 0.5);
+    robot.command(Command::velocity(speed_, 0, drift * turn_ + bias_));
+  }
+
+ private:
+  double speed_, turn_, avoid_;
+  int ranger_;
+  std::vector<double> bearings_;
+  int avoiding_ = 0;
+  double direction_ = 1;
+  int wiggle_ = 0;
+  double bias_ = 0;
+};
+
+}  // namespace
+}  // namespace troupe::examples
+
+TROUPE_CONTROLLER_EXPORT troupe::sim::Controller* troupe_controller_create(const char* args) {
+  troupe::sim::ControllerArgs a(args);
+  const double speed = a.number("speed", 0.4), turn = a.number("turn", 1.0), avoid = a.number("avoid", 0.5);
+  const int ranger = int(a.number("ranger", -1));
+  if (!a.ok() || speed < 0 || turn < 0 || avoid < 0) return nullptr;
+  return new troupe::examples::Wander(speed, turn, avoid, ranger);
+}

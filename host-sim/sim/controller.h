@@ -1,0 +1,127 @@
+// In-process controllers (Stage's `ctrl "wander"`): C++ classes built as
+// shared libraries, one instance per robot, run before every step. A
+// controller sees its own robot only: its sensors, its state, its command.
+//
+// A controller library exports one C function:
+//   extern "C" troupe::sim::Controller* troupe_controller_create(const char* args);
+// `args` is the rest of the ctrl string ("wander speed=0.3" gives
+// "speed=0.3"). It returns nullptr when the arguments are bad.
+#pragma once
+
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "host-sim/sim/world.h"
+
+namespace troupe::sim {
+
+/// A controller's view of its robot. Every call is virtual, so a controller
+/// library needs nothing from the simulator but this header: no symbols to
+/// resolve when it is loaded.
+class RobotHandle {
+ public:
+  virtual ~RobotHandle() = default;
+
+  virtual RobotId id() const = 0;
+  virtual const std::string& name() const = 0;
+  /// Pose, velocity, odometry, stall.
+  virtual const RobotState& state() const = 0;
+  /// Simulated time, s.
+  virtual double time() const = 0;
+  /// Simulated time per step, s.
+  virtual double interval() const = 0;
+
+  /// How many sensors of a kind the robot carries.
+  virtual uint32_t count(SensorKind kind) const = 0;
+  virtual const RangerDesc& ranger_desc(uint32_t k) const = 0;
+  virtual RangerView ranger(uint32_t k) const = 0;
+  virtual FiducialView fiducial(uint32_t k) const = 0;
+  virtual BlobView blobfinder(uint32_t k) const = 0;
+  virtual BumperView bumper(uint32_t k) const = 0;
+  /// Asks for a sensor to be computed every step (sensors nobody wants are
+  /// skipped). Data appears after the next step.
+  virtual void want(SensorKind kind, uint32_t k, bool wanted) = 0;
+
+  virtual void command(const Command& cmd) = 0;
+
+  /// Seeded random numbers for this robot: uniform in [0, 1), a pure
+  /// function of the run's seed, the robot, the step and `k`.
+  virtual double uniform(uint64_t k) const = 0;
+};
+
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  /// Once, before the first step: say which sensors to compute. False with
+  /// `error` refuses the robot (e.g. it lacks the sensor the controller
+  /// needs).
+  virtual bool init(RobotHandle& robot, std::string& error) = 0;
+  /// Every step, before the world steps: read sensors, send a command.
+  virtual void update(RobotHandle& robot) = 0;
+};
+
+using ControllerFactory = Controller* (*)(const char* args);
+inline constexpr const char* kControllerFactorySymbol = "troupe_controller_create";
+
+/// Marks a controller library's factory as exported:
+///   TROUPE_CONTROLLER_EXPORT Controller* troupe_controller_create(const char* args) { ... }
+#define TROUPE_CONTROLLER_EXPORT extern "C" __attribute__((visibility("default")))
+
+/// Controller arguments: "speed=0.3 turn=1 aggregate" as numbers by key and
+/// bare words as flags. Header-only, so controller libraries link nothing.
+class ControllerArgs {
+ public:
+  explicit ControllerArgs(const char* text) {
+    std::string s = text ? text : "";
+    size_t i = 0;
+    while (i < s.size()) {
+      while (i < s.size() && s[i] == ' ') ++i;
+      size_t j = s.find(' ', i);
+      if (j == std::string::npos) j = s.size();
+      if (j > i) words_.push_back({s.substr(i, j - i), false});
+      i = j;
+    }
+  }
+  /// The value of key=value, or `fallback`; a malformed number is an error.
+  double number(const std::string& key, double fallback) {
+    for (Word& w : words_) {
+      if (w.text.compare(0, key.size() + 1, key + "=") != 0) continue;
+      w.used = true;
+      const std::string v = w.text.substr(key.size() + 1);
+      char* end = nullptr;
+      double d = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0') {
+        bad_ = true;
+        return fallback;
+      }
+      return d;
+    }
+    return fallback;
+  }
+  /// True when the bare word is present.
+  bool flag(const std::string& word) {
+    for (Word& w : words_) {
+      if (w.text == word) return w.used = true;
+    }
+    return false;
+  }
+  /// False when a value was malformed or a word was not asked for.
+  bool ok() const {
+    for (const Word& w : words_) {
+      if (!w.used) return false;
+    }
+    return !bad_;
+  }
+
+ private:
+  struct Word {
+    std::string text;
+    bool used;
+  };
+  std::vector<Word> words_;
+  bool bad_ = false;
+};
+
+}  // namespace troupe::sim

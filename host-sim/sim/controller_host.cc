@@ -1,0 +1,176 @@
+#include "host-sim/sim/controller_host.h"
+
+#include <dlfcn.h>
+
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace troupe::sim {
+namespace {
+
+class WorldRobot final : public RobotHandle {
+ public:
+  WorldRobot(World& world, RobotId id) : w_(world), id_(id) {}
+
+  RobotId id() const override { return id_; }
+  const std::string& name() const override { return w_.robot(id_).name; }
+  const RobotState& state() const override { return w_.state(id_); }
+  double time() const override { return w_.time(); }
+  double interval() const override { return w_.interval(); }
+  uint32_t count(SensorKind kind) const override { return range(kind).count; }
+  const RangerDesc& ranger_desc(uint32_t k) const override {
+    return w_.ranger_desc(index(SensorKind::Ranger, k));
+  }
+  RangerView ranger(uint32_t k) const override { return w_.ranger(index(SensorKind::Ranger, k)); }
+  FiducialView fiducial(uint32_t k) const override { return w_.fiducial(index(SensorKind::Fiducial, k)); }
+  BlobView blobfinder(uint32_t k) const override { return w_.blobfinder(index(SensorKind::Blobfinder, k)); }
+  BumperView bumper(uint32_t k) const override { return w_.bumper(index(SensorKind::Bumper, k)); }
+  void want(SensorKind kind, uint32_t k, bool wanted) override {
+    w_.set_wanted({kind, index(kind, k)}, wanted);
+  }
+  void command(const Command& cmd) override { w_.command(id_, cmd); }
+  double uniform(uint64_t k) const override {
+    return w_.random().uniform(Random::stream(uint64_t(RandomKind::Controller), id_, w_.steps()), k);
+  }
+
+ private:
+  IndexRange range(SensorKind kind) const {
+    const RobotInfo& r = w_.robot(id_);
+    switch (kind) {
+      case SensorKind::Ranger:
+        return r.rangers;
+      case SensorKind::Fiducial:
+        return r.fiducials;
+      case SensorKind::Blobfinder:
+        return r.blobfinders;
+      case SensorKind::Bumper:
+        return r.bumpers;
+    }
+    return {};
+  }
+  // Out-of-range k is the controller's bug: World's accessors throw on it.
+  uint32_t index(SensorKind kind, uint32_t k) const {
+    const IndexRange r = range(kind);
+    return k < r.count ? r.first + k : UINT32_MAX;
+  }
+
+  World& w_;
+  RobotId id_;
+};
+
+}  // namespace
+
+ControllerHost::~ControllerHost() {
+  entries_.clear();  // controllers' code lives in the libraries: destroy first
+  for (void* lib : libraries_) dlclose(lib);
+}
+
+void* ControllerHost::open_library(const std::string& name, const Options& options, std::string& tried) {
+  std::vector<std::string> candidates;
+  if (name.find('/') != std::string::npos) {
+    candidates.push_back(name);
+  } else {
+    for (const std::string& dir : options.search_path) {
+      for (const std::string& file : {name + ".so", "lib" + name + ".so", name}) {
+        candidates.push_back((std::filesystem::path(dir) / file).string());
+      }
+    }
+  }
+  for (const std::string& path : candidates) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) continue;
+    if (void* lib = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) return lib;
+    tried += "\n  " + path + ": " + dlerror();
+    return nullptr;
+  }
+  std::ostringstream dirs;
+  for (const std::string& dir : options.search_path) dirs << " " << dir;
+  tried += " (searched:" + (options.search_path.empty() ? std::string(" nothing") : dirs.str()) + ")";
+  return nullptr;
+}
+
+bool ControllerHost::load(World& world, const Options& options, world::Diagnostics& diags) {
+  const size_t errors = diags.error_count();
+  std::map<std::string, ControllerFactory> factories;
+  for (RobotId id = 0; id < world.robot_count(); ++id) {
+    const RobotDesc& desc = world.desc().robots[id];
+    if (desc.ctrl.empty()) continue;
+    std::istringstream words(desc.ctrl);
+    std::string name;
+    words >> name;
+    std::string args;
+    std::getline(words, args);
+    args.erase(0, args.find_first_not_of(' '));
+    auto it = factories.find(name);
+    if (it == factories.end()) {
+      std::string tried;
+      void* lib = open_library(name, options, tried);
+      ControllerFactory factory = nullptr;
+      if (lib != nullptr) {
+        libraries_.push_back(lib);
+        factory = reinterpret_cast<ControllerFactory>(dlsym(lib, kControllerFactorySymbol));
+        if (factory == nullptr) tried = " (the library has no " + std::string(kControllerFactorySymbol) + ")";
+      }
+      if (factory == nullptr) {
+        std::string msg = "controller '" + name + "' for robot '" + desc.name + "' not found" + tried;
+        if (options.ignore_missing) {
+          diags.warn(desc.ctrl_loc, msg + "; the robot stays idle");
+        } else {
+          diags.error(desc.ctrl_loc, msg + "; --ignore-missing-ctrl loads the world with such robots idle");
+        }
+      }
+      it = factories.emplace(name, factory).first;
+    }
+    if (it->second == nullptr) continue;
+    std::unique_ptr<Controller> c(it->second(args.c_str()));
+    if (!c) {
+      diags.error(desc.ctrl_loc, "controller '" + name + "' refused its arguments \"" + args + "\"");
+      continue;
+    }
+    std::string why;
+    if (!attach(world, id, std::move(c), why)) {
+      diags.error(desc.ctrl_loc, "controller '" + name + "' cannot run robot '" + desc.name + "': " + why);
+    }
+  }
+  return diags.error_count() == errors;
+}
+
+bool ControllerHost::attach(World& world, RobotId robot, std::unique_ptr<Controller> controller,
+                            std::string& error) {
+  WorldRobot handle(world, robot);
+  if (!controller->init(handle, error)) return false;
+  entries_.push_back({robot, std::move(controller)});
+  return true;
+}
+
+void ControllerHost::update(World& world) {
+  if (phase_ == SIZE_MAX) {
+    for (size_t i = 0; i < world.profile().phases().size(); ++i) {
+      if (world.profile().phases()[i].name == "controllers") phase_ = i;
+    }
+    if (phase_ == SIZE_MAX) phase_ = world.profile().define("controllers");
+  }
+  PhaseTimer timer(world.profile(), phase_);
+  for (Entry& e : entries_) {
+    if (!e.controller) continue;
+    WorldRobot handle(world, e.robot);
+    try {
+      e.controller->update(handle);
+    } catch (const std::exception& ex) {
+      // A broken controller stops its own robot, nothing else.
+      errors_.push_back("controller of robot '" + world.robot(e.robot).name +
+                        "' failed and was stopped: " + ex.what());
+      e.controller.reset();
+      world.command(e.robot, Command::velocity(0, 0, 0));
+    }
+  }
+}
+
+std::vector<std::string> ControllerHost::take_errors() {
+  return std::exchange(errors_, {});
+}
+
+}  // namespace troupe::sim

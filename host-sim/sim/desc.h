@@ -1,0 +1,202 @@
+// A world described as plain data, SI units: what the loader makes of a
+// world file, and what tests and benchmarks may build directly. World's
+// constructor turns it into the engine's flat arrays.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host-sim/sim/geometry.h"
+#include "host-sim/world/diagnostics.h"
+#include "host-sim/world/png_image.h"
+
+namespace troupe::sim {
+
+/// Closed polygons in the frame of the model that owns them, m.
+using Polygons = std::vector<std::vector<Vec2>>;
+
+/// What a model shows to the sensors and the collision test.
+struct Appearance {
+  /// 0x00RRGGBB.
+  uint32_t color = 0xFF0000;
+  /// Robots and walls stop at it (Stage's obstacle_return).
+  bool obstacle = true;
+  /// Reflectance seen by rangers, 0..1; negative: invisible to rangers.
+  double ranger_return = 1;
+  /// Blobfinders see its colour.
+  bool blob = true;
+  /// Fiducial id it shows (0: none).
+  int fiducial_id = 0;
+  /// Only fiducial finders with the same key see it.
+  int fiducial_key = 0;
+  /// Height, m (blob images; the plane ignores it).
+  double height = 0.1;
+};
+
+/// A bitmap as obstacles: pixels darker than Stage's threshold are solid.
+/// The box of dark pixels is scaled onto the model's footprint.
+struct BitmapDesc {
+  std::shared_ptr<const world::GrayImage> image;
+  /// Pixels with a value at or below it are obstacles (Stage: 127).
+  uint8_t threshold = 127;
+};
+
+/// A model that never moves: rasterized into the obstacle grid at load.
+struct StaticDesc {
+  std::string name;
+  /// Where the model is, world frame.
+  Pose pose;
+  /// Offset of the footprint from `pose` (Stage's origin).
+  Pose origin;
+  /// Footprint size, m: polygons and bitmap are scaled to fill it.
+  Vec2 size{1, 1};
+  /// Polygons in the footprint frame (centred on `origin`), already scaled.
+  Polygons polygons;
+  /// A bitmap filling the footprint, when the model has one.
+  std::shared_ptr<BitmapDesc> bitmap;
+  /// Thin walls along the footprint's edges (Stage's boundary).
+  bool boundary = false;
+  Appearance look;
+};
+
+/// One ranging transducer (a sonar, an IR, or a laser's whole scan).
+struct TransducerDesc {
+  /// On the robot, robot frame: m, rad.
+  Pose pose;
+  double range_min = 0;  // m
+  double range_max = 5;  // m
+  /// Angle the samples spread over, rad; samples 1 points straight ahead.
+  double fov = 0.1;
+  int samples = 1;
+  /// Range noise: Gaussian with this variance, m^2 (Stage's first noise
+  /// value), applied to returns only.
+  double noise_variance = 0;
+  /// Range noise proportional to the range: uniform in +-this fraction.
+  double noise_proportional = 0;
+  /// Bearing noise: each beam's direction moves uniformly within +-half of
+  /// this, rad.
+  double noise_angle = 0;
+};
+
+struct RangerDesc {
+  std::string name;
+  /// The ranger model on the robot, robot frame (informational; the
+  /// transducers carry their own poses).
+  Pose pose;
+  Vec2 size{0.15, 0.15};
+  std::vector<TransducerDesc> transducers;
+};
+
+struct BlobfinderDesc {
+  Pose pose;                     // robot frame
+  double range = 12;             // m
+  double fov = kPi / 3;          // rad
+  double pan = 0;                // rad, left of forward
+  int width = 80;                // image, px
+  int height = 60;               // image, px
+  std::vector<uint32_t> colors;  // tracked 0x00RRGGBB; empty: every colour
+};
+
+struct FiducialDesc {
+  Pose pose;                // robot frame
+  double range_min = 0;     // m
+  double range_max = 8;     // m, detected beyond it: never
+  double range_max_id = 5;  // m, identified within it
+  double fov = kPi;         // rad
+  int key = 0;
+};
+
+struct BumperSegment {
+  /// Centre of the segment, robot frame; the segment runs along the y axis
+  /// of this pose (sideways), `length` long.
+  Pose pose;
+  double length = 0.1;  // m
+};
+
+struct BumperDesc {
+  Pose pose;  // robot frame of the bumper model
+  std::vector<BumperSegment> segments;
+};
+
+enum class Drive { Diff, Omni, Car };
+enum class Localization { Gps, Odom };
+
+struct Range {
+  double min = -1, max = 1;
+};
+
+struct PowerDesc {
+  bool enabled = false;
+  double capacity = 0;  // J
+  double charge = 0;    // J at the start
+  /// Drawn all the time, W.
+  double watts = 0;
+};
+
+struct RobotDesc {
+  std::string name;
+  /// World pose at the start.
+  Pose pose;
+  /// Body outline (its own blocks and its children's), robot frame, scaled.
+  Polygons polygons;
+  Vec2 size{0.1, 0.1};
+  Appearance look;
+  double mass = 10;  // kg (motion's power drain)
+
+  Drive drive = Drive::Diff;
+  double wheelbase = 1.0;  // m, car drive
+  /// Velocity bounds x, y (m/s) and turn (rad/s).
+  Range velocity[3] = {{-1, 1}, {-1, 1}, {-kPi / 2, kPi / 2}};
+  /// Acceleration bounds x, y (m/s^2) and turn (rad/s^2).
+  Range acceleration[3] = {{-1, 1}, {-1, 1}, {-kPi / 2, kPi / 2}};
+  /// Velocity at the start, robot frame: m/s, m/s, rad/s.
+  Pose initial_velocity;
+
+  Localization localization = Localization::Gps;
+  /// Where the odometry frame is, world frame. Default: the start pose.
+  Pose localization_origin;
+  bool has_localization_origin = false;
+  /// Largest odometry scale error per axis (x, y, a); each robot draws its
+  /// own error uniformly in [-e/2, e/2] at the start.
+  Pose odom_error{0.03, 0.03, 0.05};
+
+  PowerDesc power;
+  std::vector<RangerDesc> rangers;
+  std::vector<BlobfinderDesc> blobfinders;
+  std::vector<FiducialDesc> fiducials;
+  std::vector<BumperDesc> bumpers;
+
+  /// Controller named in the world file ("wander arg1 ..."), and where.
+  std::string ctrl;
+  world::SourceLoc ctrl_loc;
+};
+
+/// The `window` block: kept for the viewer and snapshots.
+struct WindowDesc {
+  int width = 0, height = 0;  // px (0: not given)
+  double scale = 0;           // px/m (0: not given)
+  Vec2 center;                // m
+};
+
+struct WorldDesc {
+  /// Obstacle grid cell size, m.
+  double resolution = 0.02;
+  /// Simulated time per step, s.
+  double interval_sim = 0.1;
+  /// Wall time per step in real-time mode, s (Stage's interval_real).
+  double interval_real = 0.1;
+  /// Stop after this much simulated time, s; 0: never.
+  double quit_time = 0;
+  bool paused = false;
+  /// Multiple of real time to run at; 0 or less: as fast as possible.
+  double speedup = 1;
+  /// Worker threads asked for. Results never depend on it.
+  int threads = 1;
+  WindowDesc window;
+  std::vector<StaticDesc> statics;
+  std::vector<RobotDesc> robots;
+};
+
+}  // namespace troupe::sim

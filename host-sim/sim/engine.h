@@ -1,0 +1,198 @@
+// The engine behind World (private to host-sim/sim): robots and sensors as
+// plain structs in flat arrays, walked linearly by the step's phases. Hot
+// per-step data (Body) is kept apart from what the step rarely reads.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host-sim/sim/desc.h"
+#include "host-sim/sim/profile.h"
+#include "host-sim/sim/random.h"
+#include "host-sim/sim/spatial_hash.h"
+#include "host-sim/sim/static_map.h"
+#include "host-sim/sim/world.h"
+
+namespace troupe::sim {
+
+// Flag bits of robots in the spatial hash.
+inline constexpr uint32_t kHashRangerVisible = 1;
+inline constexpr uint32_t kHashObstacle = 2;
+
+struct PolyRef {
+  uint32_t first = 0, count = 0;  // into Engine::verts
+};
+
+/// Everything the step touches for every robot, every step.
+struct Body {
+  Pose pose;        // ground truth, world: m, m, rad
+  Pose vel;         // robot frame: m/s, m/s, rad/s
+  Pose proposed;    // where integration would put it this step
+  Pose blocked_at;  // the pose a refused move tried to reach (bumpers)
+  Command cmd;
+  double radius = 0;  // m, bounding circle about `pose`
+  uint32_t poly_first = 0, poly_count = 0;
+  bool moved = false;     // proposed differs from pose
+  bool stalled = false;   // the last move was refused
+  bool disabled = false;  // battery empty
+  bool obstacle = true;
+  bool ranger_visible = true;
+};
+
+/// How a robot moves (copied out of RobotDesc so the control phase walks a
+/// compact array).
+struct Kinematics {
+  Drive drive = Drive::Diff;
+  double wheelbase = 1;
+  Range velocity[3];
+  Range acceleration[3];
+  Localization localization = Localization::Gps;
+};
+
+struct Odometry {
+  Pose estimate;  // odometry frame
+  Pose origin;    // the odometry frame in the world
+  Pose error;     // scale errors drawn at the start (x, y, a)
+};
+
+struct PowerState {
+  bool enabled = false;
+  double joules = 0, capacity = 0, base_watts = 0, watts = 0;
+};
+
+struct Transducer {
+  Pose pose;                  // robot frame
+  float start = 0, incr = 0;  // first beam's bearing and spacing, rad
+  // The first beam's direction in the robot frame, and the rotation from one
+  // beam to the next, so no step calls sin and cos per beam.
+  Vec2 first_dir, incr_rot;
+  float range_min = 0, range_max = 5;
+  float noise_sd = 0, noise_prop = 0, noise_angle = 0;
+  uint32_t samples = 1;
+  uint32_t beam_offset = 0;  // first beam's place among its ranger's beams
+};
+
+struct RangerState {
+  RobotId robot = 0;
+  // Robots with the same ranger share its transducers (a swarm of identical
+  // robots reads one small array, which stays in cache).
+  uint32_t transducer_first = 0, transducer_count = 0;
+  uint32_t beam_first = 0, beam_count = 0;
+  double reach = 0;  // m from the robot's pose to the farthest beam end
+  bool wanted = false;
+  bool any_noise_angle = false;
+  uint64_t step = UINT64_MAX;
+};
+
+struct BlobState {
+  RobotId robot = 0;
+  bool wanted = false;
+  uint64_t step = UINT64_MAX;
+  std::vector<Blob> blobs;
+};
+
+struct FiducialState {
+  RobotId robot = 0;
+  bool wanted = false;
+  uint64_t step = UINT64_MAX;
+  std::vector<FiducialReading> readings;
+};
+
+struct BumperState {
+  RobotId robot = 0;
+  bool wanted = false;
+  uint64_t step = UINT64_MAX;
+  uint32_t pressed = 0;
+};
+
+/// A static model, for what the grid cannot say: which model a ray hit
+/// (colour, reflectance) and fiducial landmarks.
+struct StaticInfo {
+  Vec2 lo, hi;  // world bounding box, m
+  double area = 0;
+  Pose pose;
+  Appearance look;
+};
+
+struct Engine {
+  Engine(const WorldDesc& d, Random r);
+
+  // build.cc
+  void build();
+  void build_statics();
+  void build_robot(const RobotDesc& r);
+  void start_robot(RobotId i);
+
+  // motion.cc
+  void control();
+  void integrate();
+  void odometry();
+  // collide.cc
+  void broadphase();
+  void collide();
+  bool hits_static(RobotId i, const Pose& from, const Pose& to);
+  bool overlaps_robot(RobotId i, const Pose& pi, RobotId j, const Pose& pj);
+  // ranger.cc
+  void update_rangers();
+  void update_ranger(uint32_t index);
+  /// Distance along a ray to robot j's outline, m; negative when missed.
+  double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
+  /// The static model owning the occupied cell at `p` (smallest box wins).
+  const StaticInfo* static_at(Vec2 p) const;
+  // detectors.cc
+  void update_blobfinders();
+  void update_fiducials();
+  void update_bumpers();
+
+  void update_sensors();
+  void publish_states();
+  void outline(RobotId i, const Pose& at, std::vector<Vec2>& verts, std::vector<PolyRef>& polys) const;
+
+  WorldDesc desc;
+  Random random;
+  StaticMap map;
+  SpatialHash hash;
+  Profile profile;
+  size_t ph_control, ph_integrate, ph_broadphase, ph_collide, ph_odometry, ph_rangers, ph_blobfinders,
+      ph_fiducials, ph_bumpers;
+  double time = 0;  // s
+  uint64_t steps = 0;
+
+  std::vector<RobotInfo> info;
+  std::vector<IndexRange> robot_rangers;  // info[i].rangers, compact for the sensor loop
+  std::vector<Body> bodies;
+  std::vector<Kinematics> kinematics;
+  std::vector<Odometry> odom;
+  std::vector<PowerState> power;
+  std::vector<RobotState> states;
+  std::vector<Vec2> verts;  // robot-frame outlines
+  std::vector<PolyRef> polys;
+
+  std::vector<Transducer> transducers;
+  std::vector<IndexRange> transducer_sets;  // the distinct transducer arrays
+  std::vector<RangerState> rangers;
+  std::vector<float> ranges, intensities;
+  std::vector<BlobState> blobfinders;
+  std::vector<FiducialState> fiducials;
+  std::vector<BumperState> bumpers;
+  std::vector<StaticInfo> statics;
+
+  // Scratch, reused every step so the step does not allocate.
+  std::vector<Vec2> hash_centres;
+  std::vector<double> hash_radii;
+  std::vector<uint32_t> hash_flags;
+  std::vector<uint8_t> accept;
+  std::vector<uint32_t> candidates;
+  struct Candidate {
+    uint32_t index;
+    double x, y, r;  // a circle holding the robot this step, m
+  };
+  std::vector<Candidate> ranger_candidates;
+  std::vector<RayQuery> ray_queries;
+  std::vector<float> wall_ranges;
+  std::vector<Pose> transducer_poses;
+  std::vector<Vec2> scratch_verts, scratch_verts2;
+  std::vector<PolyRef> scratch_polys, scratch_polys2;
+};
+
+}  // namespace troupe::sim

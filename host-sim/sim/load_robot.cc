@@ -1,0 +1,296 @@
+// Robots: a position model and everything mounted on it, flattened into one
+// body outline and lists of sensors with poses in the robot's frame.
+#include <algorithm>
+#include <cmath>
+
+#include "host-sim/sim/loader_internal.h"
+#include "host-sim/world/colors.h"
+
+namespace troupe::sim {
+
+using world::Entity;
+using world::Property;
+
+void Loader::robot(const Entity& e, WorldDesc& out) {
+  ModelCommon c = common(e, ModelKind::Position);
+  RobotDesc r;
+  r.name = c.name;
+  if (r.name.empty()) r.name.append("r").append(std::to_string(out.robots.size()));
+  r.pose = c.pose;
+  r.size = c.size;
+  r.look = c.look;
+  r.mass = read_.number(e, "mass", r.mass);
+  r.polygons = body(e, c, true);
+  if (const Property* p = e.find("bitmap"))
+    diags().warn(p->loc, "a bitmap on a robot is not simulated; ignored");
+  e.find("boundary");
+
+  if (auto d = read_.string(e, "drive")) {
+    if (*d == "diff") {
+      r.drive = Drive::Diff;
+    } else if (*d == "omni") {
+      r.drive = Drive::Omni;
+    } else if (*d == "car") {
+      r.drive = Drive::Car;
+    } else {
+      diags().warn(e.find("drive")->loc,
+                   "drive \"" + *d + "\" is not \"diff\", \"omni\" or \"car\"; \"diff\" is used");
+    }
+  }
+  r.wheelbase = read_.length(e, "wheelbase", r.wheelbase);
+  if (!(r.wheelbase > 0)) {
+    diags().error(e.find("wheelbase")->loc, "wheelbase must be > 0 m");
+    r.wheelbase = 1;
+  }
+  for (const char* key : {"velocity_bounds", "acceleration_bounds"}) {
+    Range* bounds = key[0] == 'v' ? r.velocity : r.acceleration;
+    double v[8] = {bounds[0].min, bounds[0].max, bounds[1].min, bounds[1].max, 0, 0,
+                   bounds[2].min, bounds[2].max};
+    if (read_.tuple(e, key, "llllllaa", v) == 0) continue;
+    bounds[0] = {v[0], v[1]};
+    bounds[1] = {v[2], v[3]};
+    bounds[2] = {v[6], v[7]};
+  }
+  Pose v0 = read_.pose(e, "velocity", {});
+  r.initial_velocity = v0;
+  if (auto loc = read_.string(e, "localization")) {
+    if (*loc == "gps") {
+      r.localization = Localization::Gps;
+    } else if (*loc == "odom") {
+      r.localization = Localization::Odom;
+    } else {
+      diags().warn(e.find("localization")->loc,
+                   "localization \"" + *loc + "\" is not \"gps\" or \"odom\"; \"gps\" is used");
+    }
+  }
+  if (e.find("localization_origin") != nullptr) {
+    r.localization_origin = read_.pose(e, "localization_origin", {});
+    r.has_localization_origin = true;
+  }
+  if (const Property* p = e.find("odom_error")) {
+    double err[4] = {r.odom_error.x, r.odom_error.y, 0, r.odom_error.a};
+    if (p->values.size() == 3) {
+      double e3[3] = {r.odom_error.x, r.odom_error.y, r.odom_error.a};
+      read_.tuple(e, "odom_error", "fff", e3);
+      r.odom_error = {e3[0], e3[1], e3[2]};
+    } else {
+      read_.tuple(e, "odom_error", "ffff", err);
+      r.odom_error = {err[0], err[1], err[3]};
+    }
+  }
+  if (const Property* p = e.find("odom")) {
+    diags().warn(p->loc, "'odom' was removed in Stage 1.6.5 and is ignored; use localization_origin");
+  }
+  if (auto ctrl = read_.string(e, "ctrl")) {
+    r.ctrl = *ctrl;
+    r.ctrl_loc = e.find("ctrl")->loc;
+  }
+  power(e, r);
+  for (const Entity& child : e.children) robot_part(child, {}, r);
+  out.robots.push_back(std::move(r));
+}
+
+void Loader::robot_part(const Entity& e, const Pose& parent, RobotDesc& r) {
+  const ModelKind kind = model_kind(e.type);
+  if (kind == ModelKind::Block) return;  // the parent's outline, read by body()
+  const ModelCommon c = common(e, kind);
+  const Pose at = compose(parent, c.pose);
+  bool default_block = false;
+  switch (kind) {
+    case ModelKind::Ranger:
+    case ModelKind::Laser:
+      ranger(e, c, at, kind, r);
+      break;
+    case ModelKind::Blobfinder:
+      blobfinder(e, at, r);
+      break;
+    case ModelKind::Fiducial:
+      fiducial(e, c, at, r);
+      break;
+    case ModelKind::Bumper:
+      bumper(e, at, r);
+      break;
+    case ModelKind::Sensor:
+      diags().warn(e.loc, "a sensor( ... ) belongs inside a ranger; ignored");
+      for (const Property& p : e.properties) p.used = true;
+      return;
+    case ModelKind::Window:
+      diags().warn(e.loc, "a window inside a model is ignored");
+      for (const Property& p : e.properties) p.used = true;
+      return;
+    case ModelKind::Position:
+      diags().warn(e.loc, "a position model inside a robot moves with it, not on its own");
+      default_block = true;
+      break;
+    case ModelKind::NotSimulated:
+      diags().warn(e.loc, "model type '" + e.type + "' is not simulated; its body is part of the robot");
+      for (const Property& p : e.properties) p.used = true;
+      default_block = true;
+      break;
+    case ModelKind::Unknown:
+      diags().warn(e.loc, "unknown model type '" + e.type + "'; its body is part of the robot");
+      default_block = true;
+      break;
+    default:
+      default_block = true;
+      break;
+  }
+  // What it is made of joins the robot's outline (sensors have a body only
+  // when they list blocks, like Stage's sicklaser).
+  Polygons polys = body(e, c, default_block);
+  if (c.look.obstacle) {
+    for (auto& poly : polys) {
+      for (Vec2& p : poly) p = transform(at, p);
+      r.polygons.push_back(std::move(poly));
+    }
+  }
+  for (const Entity& child : e.children) {
+    if (model_kind(child.type) == ModelKind::Sensor &&
+        (kind == ModelKind::Ranger || kind == ModelKind::Laser)) {
+      continue;  // read by ranger()
+    }
+    robot_part(child, at, r);
+  }
+}
+
+void Loader::ranger(const Entity& e, const ModelCommon& c, const Pose& at, ModelKind kind, RobotDesc& r) {
+  RangerDesc rd;
+  rd.name = c.name;
+  rd.pose = at;
+  rd.size = c.size;
+  if (kind == ModelKind::Laser) {
+    // Stage 3's laser: one scanning transducer at the model.
+    TransducerDesc t;
+    t.pose = at;
+    t.range_min = read_.length(e, "range_min", 0);
+    t.range_max = read_.length(e, "range_max", 8);
+    t.fov = read_.angle(e, "fov", kPi);
+    t.samples = read_.integer(e, "samples", 361);
+    rd.transducers.push_back(t);
+  }
+  for (const Entity& s : e.children) {
+    if (model_kind(s.type) == ModelKind::Sensor) rd.transducers.push_back(transducer(s, at));
+  }
+  if (int count = read_.integer(e, "scount", 0); count > 0) {
+    // Stage 3's transducer arrays: common view, one pose per transducer.
+    double view[3] = {0, 5, kPi / count};
+    read_.tuple(e, "sview", "lla", view);
+    e.find("ssize");
+    e.find("sraycount");
+    for (int i = 0; i < count && i < 4096; ++i) {
+      double p[3] = {0, 0, 0};
+      read_.tuple(e, "spose[" + std::to_string(i) + "]", "lla", p);
+      TransducerDesc t;
+      t.pose = compose(at, {p[0], p[1], p[2]});
+      t.range_min = view[0];
+      t.range_max = view[1];
+      t.fov = view[2];
+      rd.transducers.push_back(t);
+    }
+  }
+  for (const TransducerDesc& t : rd.transducers) {
+    if (!(t.range_max > t.range_min && t.range_min >= 0) || t.samples < 1 || t.samples > 100000) {
+      diags().error(e.loc, "ranger '" + e.written_type +
+                               "': a sensor needs 0 <= range min < max and 1..100000 samples");
+      return;
+    }
+  }
+  if (rd.transducers.empty())
+    diags().warn(e.loc, "ranger '" + e.written_type + "' has no sensor( ... ); it measures nothing");
+  r.rangers.push_back(std::move(rd));
+}
+
+TransducerDesc Loader::transducer(const Entity& s, const Pose& at) {
+  TransducerDesc t;
+  t.pose = compose(at, read_.pose(s, "pose", {}));
+  read_.size(s, "size", {0.01, 0.01});
+  double range[2] = {t.range_min, t.range_max};
+  read_.tuple(s, "range", "ll", range);
+  double view[3] = {range[0], range[1], t.fov};
+  if (read_.tuple(s, "view", "lla", view) > 0) {  // an older form: [min max fov]
+    range[0] = view[0];
+    range[1] = view[1];
+    t.fov = view[2];
+  }
+  t.range_min = range[0];
+  t.range_max = range[1];
+  t.fov = read_.angle(s, "fov", t.fov);
+  t.samples = read_.integer(s, "samples", 1);
+  double noise[3] = {0, 0, 0};
+  read_.tuple(s, "noise", "ffa", noise);
+  t.noise_variance = noise[0];
+  t.noise_proportional = noise[1];
+  t.noise_angle = noise[2];
+  read_.color(s);
+  return t;
+}
+
+void Loader::blobfinder(const Entity& e, const Pose& at, RobotDesc& r) {
+  BlobfinderDesc b;
+  b.pose = at;
+  double image[2] = {double(b.width), double(b.height)};
+  read_.tuple(e, "image", "ff", image);
+  b.width = int(image[0]);
+  b.height = int(image[1]);
+  if (b.width < 1 || b.height < 1 || b.width > 10000 || b.height > 10000) {
+    diags().error(e.find("image")->loc, "image must be 1..10000 pixels each way");
+    b.width = 80;
+    b.height = 60;
+  }
+  b.range = read_.length(e, "range_max", b.range);
+  b.range = read_.length(e, "range", b.range);
+  b.fov = read_.angle(e, "fov", b.fov);
+  b.pan = read_.angle(e, "pan", b.pan);
+  int count = read_.integer(e, "colors_count", -1);
+  if (const Property* p = e.find("colors")) {
+    for (size_t i = 0; i < p->values.size() && (count < 0 || int(i) < count); ++i) {
+      const world::Value& v = p->values[i];
+      auto col = v.is_string ? world::lookup_color(v.text) : std::nullopt;
+      if (!col) {
+        diags().warn(v.loc, "unknown colour " + v.text + " in colors; skipped");
+        continue;
+      }
+      b.colors.push_back(*col);
+    }
+  }
+  r.blobfinders.push_back(std::move(b));
+}
+
+void Loader::fiducial(const Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r) {
+  FiducialDesc f;
+  f.pose = at;
+  f.range_min = read_.length(e, "range_min", f.range_min);
+  f.range_max = read_.length(e, "range_max", f.range_max);
+  f.range_max_id = read_.length(e, "range_max_id", f.range_max_id);
+  f.fov = read_.angle(e, "fov", f.fov);
+  f.key = c.look.fiducial_key;
+  e.find("ignore_zloc");
+  r.fiducials.push_back(f);
+}
+
+void Loader::bumper(const Entity& e, const Pose& at, RobotDesc& r) {
+  BumperDesc b;
+  b.pose = at;
+  const double len = read_.length(e, "blength", 0.1);
+  const int count = std::clamp(read_.integer(e, "bcount", 0), 0, 32);
+  for (int i = 0; i < count; ++i) {
+    double p[3] = {0, 0, 0};
+    read_.tuple(e, "bpose[" + std::to_string(i) + "]", "lla", p);
+    b.segments.push_back({{p[0], p[1], p[2]}, len});
+  }
+  r.bumpers.push_back(std::move(b));
+}
+
+void Loader::power(const Entity& e, RobotDesc& r) {
+  double joules = read_.number(e, "joules", -1);
+  if (e.find("kjoules") != nullptr) joules = read_.number(e, "kjoules", 0) * 1e3;
+  double capacity = read_.number(e, "joules_capacity", -1);
+  if (e.find("kjoules_capacity") != nullptr) capacity = read_.number(e, "kjoules_capacity", 0) * 1e3;
+  r.power.watts = read_.number(e, "watts", 0);
+  if (joules < 0) return;
+  r.power.enabled = true;
+  r.power.charge = joules;
+  r.power.capacity = capacity > 0 ? capacity : joules;
+}
+
+}  // namespace troupe::sim

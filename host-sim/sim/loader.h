@@ -1,0 +1,35 @@
+// From a Stage world file to a WorldDesc: the model type table, units
+// converted once, bitmaps loaded, sensors and bodies flattened onto robots.
+//
+// Model types (the world file's keywords; `define` builds on these):
+//   model       a static obstacle (blocks, or a bitmap with `boundary`)
+//   position    a robot: drive "diff"|"omni"|"car", velocity/acceleration
+//               bounds, localization "gps"|"odom", odom_error, ctrl
+//   ranger      sonar/IR/laser: `sensor( pose range fov samples noise )`
+//               children, or Stage 3's scount/spose[i]/sview
+//   laser       Stage 3's laser (range_min range_max fov samples)
+//   blobfinder  colors_count colors [..] image [w h] range fov pan
+//   fiducial    range_min range_max range_max_id fov fiducial_key
+//   bumper      bcount bpose[i] [x y a] blength
+//   block       points N point[i] [x y] z [..]: a polygon of its model
+//   window      kept for the viewer
+// camera, gripper, actuator, ... load as plain models with a warning.
+#pragma once
+
+#include <string>
+
+#include "host-sim/sim/desc.h"
+#include "host-sim/world/diagnostics.h"
+#include "host-sim/world/worldfile.h"
+
+namespace troupe::sim {
+
+/// Converts a parsed world file. Warnings (unknown keys, types Troupe does
+/// not simulate) and errors (wrong value kinds, missing bitmaps, a grid too
+/// large) go to `diags` with file:line. False when there were errors.
+bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags);
+
+/// Reads, parses and converts a world file.
+bool load_world_file(const std::string& path, WorldDesc& out, world::Diagnostics& diags);
+
+}  // namespace troupe::sim

@@ -1,0 +1,75 @@
+// The loader's insides, shared by loader.cc (world, statics, geometry) and
+// load_robot.cc (robots and their sensors). Private to host-sim/sim.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "host-sim/sim/desc.h"
+#include "host-sim/sim/reader.h"
+#include "host-sim/world/worldfile.h"
+
+namespace troupe::sim {
+
+enum class ModelKind {
+  Model,
+  Position,
+  Ranger,
+  Laser,
+  Sensor,
+  Blobfinder,
+  Fiducial,
+  Bumper,
+  Block,
+  Window,
+  NotSimulated,
+  Unknown,
+};
+
+/// The type table: world-file keyword -> what it loads as.
+ModelKind model_kind(const std::string& type);
+
+/// What every model has, read once.
+struct ModelCommon {
+  std::string name;
+  Pose pose;    // relative to the parent (world for top-level models)
+  Pose origin;  // body offset from pose
+  Vec2 size{0.1, 0.1};
+  Appearance look;
+};
+
+class Loader {
+ public:
+  Loader(const world::WorldFile& file, world::Diagnostics& diags) : file_(file), read_(diags) {}
+  bool run(WorldDesc& out);
+
+ private:
+  world::Diagnostics& diags() { return read_.diags(); }
+
+  // loader.cc
+  void world_properties(const world::Entity& w, WorldDesc& out);
+  void window(const world::Entity& e, WindowDesc& out);
+  ModelCommon common(const world::Entity& e, ModelKind kind);
+  /// The model's blocks (or its default box), scaled to its size and
+  /// offset by its origin: polygons in the model's frame.
+  Polygons body(const world::Entity& e, const ModelCommon& c, bool default_block);
+  std::shared_ptr<BitmapDesc> bitmap(const world::Entity& e);
+  void static_model(const world::Entity& e, const Pose& parent, WorldDesc& out);
+  void check_grid_size(const world::Entity& w, const WorldDesc& out);
+
+  // load_robot.cc
+  void robot(const world::Entity& e, WorldDesc& out);
+  void robot_part(const world::Entity& e, const Pose& parent, RobotDesc& r);
+  void ranger(const world::Entity& e, const ModelCommon& c, const Pose& at, ModelKind kind, RobotDesc& r);
+  TransducerDesc transducer(const world::Entity& e, const Pose& ranger_at);
+  void blobfinder(const world::Entity& e, const Pose& at, RobotDesc& r);
+  void fiducial(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  void bumper(const world::Entity& e, const Pose& at, RobotDesc& r);
+  void power(const world::Entity& e, RobotDesc& r);
+
+  const world::WorldFile& file_;
+  Reader read_;
+  int unnamed_robots_ = 0;
+};
+
+}  // namespace troupe::sim

@@ -1,0 +1,61 @@
+// Time spent in each named phase of the step, accumulated over steps, so a
+// run can print where its time went.
+#pragma once
+
+#include <cstdint>
+#include <ctime>
+#include <string>
+#include <vector>
+
+namespace troupe::sim {
+
+/// Monotonic nanoseconds.
+inline uint64_t now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
+}
+
+class Profile {
+ public:
+  struct Phase {
+    std::string name;
+    uint64_t total_ns = 0;  // over every step since reset
+    uint64_t last_ns = 0;   // the latest step
+  };
+
+  /// Adds a phase; returns its index for add().
+  size_t define(std::string name);
+  void add(size_t phase, uint64_t ns) {
+    phases_[phase].total_ns += ns;
+    phases_[phase].last_ns = ns;
+  }
+  void count_step() { ++steps_; }
+  void reset();
+
+  const std::vector<Phase>& phases() const { return phases_; }
+  uint64_t steps() const { return steps_; }
+  uint64_t total_ns() const;
+  /// A table: phase, total ms, us per step, share of the total.
+  std::string table() const;
+
+ private:
+  std::vector<Phase> phases_;
+  uint64_t steps_ = 0;
+};
+
+/// Times one phase from construction to destruction.
+class PhaseTimer {
+ public:
+  PhaseTimer(Profile& profile, size_t phase) : profile_(profile), phase_(phase), start_(now_ns()) {}
+  ~PhaseTimer() { profile_.add(phase_, now_ns() - start_); }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  Profile& profile_;
+  size_t phase_;
+  uint64_t start_;
+};
+
+}  // namespace troupe::sim

@@ -1,0 +1,189 @@
+// The ranger model (sonar rings, IR, lasers). Each beam is cast through the
+// static grid; then the robots near the sensor are tested only against the
+// beams their bounding circle can cross (an angular interval per robot), and
+// only where they could be nearer than the wall already found.
+#include <algorithm>
+#include <cmath>
+
+#include "host-sim/sim/engine.h"
+
+namespace troupe::sim {
+namespace {
+
+// A beam index from a real one, clamped before the conversion.
+int index_at(double v, int lo, int hi) {
+  return int(std::clamp(v, double(lo) - 1, double(hi) + 1));
+}
+
+}  // namespace
+
+double Engine::ray_robot(RobotId j, Vec2 origin, Vec2 dir) const {
+  const Body& b = bodies[j];
+  // Into the robot's frame, where its outline is stored.
+  const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
+  const Vec2 d0{origin.x - b.pose.x, origin.y - b.pose.y};
+  const Vec2 o{c * d0.x + s * d0.y, -s * d0.x + c * d0.y};
+  const Vec2 d{c * dir.x + s * dir.y, -s * dir.x + c * dir.y};
+  double best = -1;
+  for (uint32_t k = 0; k < b.poly_count; ++k) {
+    const PolyRef& p = polys[b.poly_first + k];
+    double t = ray_polygon(o, d, {verts.data() + p.first, p.count});
+    if (t >= 0 && (best < 0 || t < best)) best = t;
+  }
+  return best;
+}
+
+const StaticInfo* Engine::static_at(Vec2 p) const {
+  const StaticInfo* best = nullptr;
+  for (const StaticInfo& s : statics) {
+    if (p.x < s.lo.x || p.x > s.hi.x || p.y < s.lo.y || p.y > s.hi.y) continue;
+    if (!best || s.area < best->area) best = &s;
+  }
+  return best;
+}
+
+void Engine::update_rangers() {
+  // Robot by robot in the hash's cell order, so consecutive rays read
+  // nearby parts of the grid (a large map does not fit in cache). Each
+  // ranger's result depends only on the world, not on this order.
+  for (const SpatialHash::Item& item : hash.order()) {
+    const IndexRange r = robot_rangers[item.index];
+    for (uint32_t k = r.first; k < r.first + r.count; ++k) {
+      if (rangers[k].wanted) update_ranger(k);
+    }
+  }
+}
+
+void Engine::update_ranger(uint32_t index) {
+  RangerState& rs = rangers[index];
+  const Body& self = bodies[rs.robot];
+  float* const out = ranges.data() + rs.beam_first;
+  float* const inten = intensities.data() + rs.beam_first;
+  const uint64_t noise_stream = Random::stream(uint64_t(RandomKind::RangerNoise), index, steps);
+  const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), index, steps);
+  const uint64_t angle_stream = Random::stream(uint64_t(RandomKind::RangerAngle), index, steps);
+
+  // Every beam of the ranger, cast through the grid together. Directions
+  // are the robot-frame ones turned by the robot's heading.
+  ray_queries.clear();
+  transducer_poses.clear();
+  const double hc = std::cos(self.pose.a), hs = std::sin(self.pose.a);
+  auto turn = [hc, hs](Vec2 v) { return Vec2{hc * v.x - hs * v.y, hs * v.x + hc * v.y}; };
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+    const Transducer& td = transducers[t];
+    const Vec2 o = Vec2{self.pose.x, self.pose.y} + turn({td.pose.x, td.pose.y});
+    const Pose org{o.x, o.y, self.pose.a + td.pose.a};
+    transducer_poses.push_back(org);
+    if (td.noise_angle > 0) {
+      const double a0 = org.a + td.start;
+      for (uint32_t s = 0; s < td.samples; ++s) {
+        const double a =
+            a0 + td.incr * s +
+            0.5 * td.noise_angle * random.symmetric(angle_stream, rs.beam_first + td.beam_offset + s);
+        ray_queries.push_back({o, {std::cos(a), std::sin(a)}, td.range_max});
+      }
+      continue;
+    }
+    Vec2 dir = turn(td.first_dir);
+    const double c = td.incr_rot.x, sn = td.incr_rot.y;
+    for (uint32_t s = 0; s < td.samples; ++s) {
+      ray_queries.push_back({o, dir, td.range_max});
+      dir = {c * dir.x - sn * dir.y, sn * dir.x + c * dir.y};
+    }
+  }
+  map.cast_batch(ray_queries, StaticMap::kRangerMask, out);
+  const bool one_static = statics.size() == 1;
+  const float static_return = one_static ? float(std::max(0.0, statics[0].look.ranger_return)) : 1.0f;
+  for (uint32_t b = 0; b < rs.beam_count; ++b) {
+    inten[b] = 0;
+    if (out[b] >= ray_queries[b].max_range) continue;
+    if (one_static) {
+      inten[b] = static_return;
+    } else {
+      const RayQuery& q = ray_queries[b];
+      const StaticInfo* hit = static_at(q.origin + (out[b] + 0.5 * map.resolution()) * q.dir);
+      inten[b] = hit ? float(std::max(0.0, hit->look.ranger_return)) : 1.0f;
+    }
+  }
+
+  // Robots that may cross a beam, tested only on the beams they can cross
+  // and only where they could be nearer than what the beam already hit.
+  // From the hash's copies of the robots' circles (which hold each robot
+  // over this step's move): no robot data is touched to filter.
+  ranger_candidates.clear();
+  const double sx = self.pose.x, sy = self.pose.y;
+  hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
+    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
+    const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
+    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
+      ranger_candidates.push_back({it.index, it.x, it.y, r});
+  });
+  for (uint32_t t = rs.transducer_first;
+       t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
+    const Transducer& td = transducers[t];
+    const uint32_t first = td.beam_offset, n = td.samples;
+    const Pose& org = transducer_poses[t - rs.transducer_first];
+    const Vec2 o{org.x, org.y};
+    for (const Candidate& cand : ranger_candidates) {
+      const double dx = cand.x - o.x, dy = cand.y - o.y;
+      int lo = 0, hi = int(n) - 1;
+      if (n == 1) {
+        // One beam: does it pass within the robot's circle, ahead of what it hit?
+        const Vec2 d = ray_queries[first].dir;
+        const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
+        if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
+      } else {
+        const double dist = std::hypot(dx, dy);
+        if (dist - cand.r >= td.range_max) continue;
+        const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
+        if (half < kPi && td.incr > 0) {
+          const int last = int(n) - 1;
+          // Bearing from the first beam; the fan is centred on the heading.
+          const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
+          lo = std::max(0, index_at(std::ceil((rel - half) / td.incr), 0, last));
+          hi = std::min(last, index_at(std::floor((rel + half) / td.incr), 0, last));
+          // A fan reaching round behind the sensor: the other side of the seam.
+          if (lo > hi && td.incr * last > kPi) {
+            const double wrapped = rel < 0 ? rel + 2 * kPi : rel - 2 * kPi;
+            lo = std::max(0, index_at(std::ceil((wrapped - half) / td.incr), 0, last));
+            hi = std::min(last, index_at(std::floor((wrapped + half) / td.incr), 0, last));
+          }
+        }
+      }
+      // Nearer than this, nothing of the robot is: beams that stopped at a
+      // wall before it cannot see it.
+      const double near = std::hypot(dx, dy) - cand.r;
+      for (int s = lo; s <= hi; ++s) {
+        const RayQuery& q = ray_queries[first + uint32_t(s)];
+        float& r = out[first + uint32_t(s)];
+        if (near >= r) continue;
+        const double hit = ray_robot(cand.index, q.origin, q.dir);
+        if (hit >= 0 && hit < r) {
+          r = float(hit);
+          inten[first + uint32_t(s)] = float(std::max(0.0, desc.robots[cand.index].look.ranger_return));
+        }
+      }
+    }
+  }
+
+  // Noise on returns, then the sensor's limits.
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+    const Transducer& td = transducers[t];
+    float* r = out + td.beam_offset;
+    const uint64_t beam = rs.beam_first + td.beam_offset;  // world-wide index: the noise counter
+    for (uint32_t s = 0; s < td.samples; ++s) {
+      if (r[s] < td.range_max) {
+        double v = r[s];
+        if (td.noise_prop > 0) v += v * td.noise_prop * random.symmetric(noise_stream, beam + s);
+        if (td.noise_sd > 0) v += td.noise_sd * random.gaussian(gauss_stream, beam + s);
+        r[s] = float(std::clamp(v, double(td.range_min), double(td.range_max)));
+      } else {
+        r[s] = td.range_max;
+      }
+      r[s] = std::max(r[s], td.range_min);
+    }
+  }
+  rs.step = steps;
+}
+
+}  // namespace troupe::sim

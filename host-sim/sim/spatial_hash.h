@@ -1,0 +1,82 @@
+// Robots in a uniform grid, rebuilt every step by a counting sort into flat
+// arrays: each robot sits in the one cell holding its centre, and a query
+// widens its box by the largest robot radius, so no robot is listed twice.
+// Robots outside the grid are kept in its border cells; queries clamp the
+// same way, so nothing is missed.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "host-sim/sim/geometry.h"
+
+namespace troupe::sim {
+
+class SpatialHash {
+ public:
+  /// A robot as the hash holds it: a copy of its circle, so queries that
+  /// only filter by distance never touch the robots' own (scattered) data.
+  struct Item {
+    uint32_t index;  // the robot
+    uint32_t flags;  // the caller's bits (e.g. visible to rangers)
+    float x, y;      // circle centre, m
+    float r;         // circle radius, m
+  };
+
+  /// Covers [lo, hi] with square cells of `cell` m.
+  void reset(Vec2 lo, Vec2 hi, double cell);
+
+  /// Rebuilds from the robots' centres and radii (m) and flag bits. Radius
+  /// < 0 leaves a robot out.
+  void build(const std::vector<Vec2>& centres, const std::vector<double>& radii,
+             const std::vector<uint32_t>& flags);
+
+  /// Calls visit(index) for every robot whose circle may touch the circle
+  /// (c, r); the caller does the exact test. Each robot at most once.
+  template <class Visit>
+  void query(Vec2 c, double r, Visit&& visit) const {
+    query_items(c, r, [&](const Item& it) { visit(it.index); });
+  }
+  /// The same, visiting the items (index, flags, circle).
+  template <class Visit>
+  void query_items(Vec2 c, double r, Visit&& visit) const {
+    const double reach = r + max_radius_;
+    int x0 = cell_x(c.x - reach), x1 = cell_x(c.x + reach);
+    int y0 = cell_y(c.y - reach), y1 = cell_y(c.y + reach);
+    for (int y = y0; y <= y1; ++y) {
+      const uint32_t* row = &start_[size_t(y) * size_t(nx_)];
+      uint32_t begin = row[x0], end = row[x1 + 1];
+      for (uint32_t i = begin; i < end; ++i) visit(items_[i]);
+    }
+  }
+
+  /// Every robot in the hash, cell by cell (row-major): an order in which
+  /// consecutive robots are near each other.
+  std::span<const Item> order() const { return items_; }
+
+  double cell_size() const { return cell_; }
+  double max_radius() const { return max_radius_; }
+  size_t memory_bytes() const {
+    return start_.capacity() * 4 + items_.capacity() * 4 + cell_of_.capacity() * 4;
+  }
+
+ private:
+  int cell_x(double x) const { return std::clamp(int(std::floor((x - lo_.x) * inv_cell_)), 0, nx_ - 1); }
+  int cell_y(double y) const { return std::clamp(int(std::floor((y - lo_.y) * inv_cell_)), 0, ny_ - 1); }
+
+  Vec2 lo_;
+  double cell_ = 1, inv_cell_ = 1;
+  int nx_ = 1, ny_ = 1;
+  double max_radius_ = 0;
+  // Cells in row-major order; start_[k]..start_[k+1] indexes items_ for
+  // cell k. Rows are contiguous, so a row's span of cells is one range.
+  std::vector<uint32_t> start_;
+  std::vector<Item> items_;
+  std::vector<uint32_t> cell_of_;
+  std::vector<uint32_t> scratch_;
+};
+
+}  // namespace troupe::sim

@@ -1,0 +1,226 @@
+#include "host-sim/sim/static_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace troupe::sim {
+namespace {
+
+// Slack that keeps a shape touching a cell's edge from marking the cell.
+constexpr double kEdgeSlack = 1e-6;
+
+// Bits of an occupied code: 1 = stops robots, 2 = seen by rangers.
+uint8_t bits_of(uint8_t code) {
+  switch (code) {
+    case StaticMap::kSolid:
+      return 3;
+    case StaticMap::kVisible:
+      return 2;
+    case StaticMap::kBarrier:
+      return 1;
+    default:
+      return 0;
+  }
+}
+
+uint8_t code_of(uint8_t bits) {
+  return bits == 3 ? StaticMap::kSolid : bits == 2 ? StaticMap::kVisible : StaticMap::kBarrier;
+}
+
+}  // namespace
+
+void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
+  res_ = resolution;
+  inv_res_ = 1.0 / resolution;
+  origin_ = lo;
+  w_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_res_)));
+  h_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_res_)));
+  // Four bytes more than the cells: the vector caster reads a cell as the
+  // low byte of a 32-bit load.
+  codes_.assign(size_t(w_) * size_t(h_) + 4, kFree);
+}
+
+void StaticMap::mark(size_t i, bool obstacle, bool visible) {
+  uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
+  if (add == 0) return;
+  codes_[i] = code_of(uint8_t(bits_of(codes_[i]) | add));
+}
+
+void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
+  double x0 = (lo.x - origin_.x) * inv_res_, x1 = (hi.x - origin_.x) * inv_res_;
+  double y0 = (lo.y - origin_.y) * inv_res_, y1 = (hi.y - origin_.y) * inv_res_;
+  int ix0 = int(std::floor(x0 + kEdgeSlack)), ix1 = int(std::ceil(x1 - kEdgeSlack)) - 1;
+  int iy0 = int(std::floor(y0 + kEdgeSlack)), iy1 = int(std::ceil(y1 - kEdgeSlack)) - 1;
+  // A box thinner than a cell still marks the cell it lies in.
+  if (ix1 < ix0) ix0 = ix1 = int(std::floor(0.5 * (x0 + x1)));
+  if (iy1 < iy0) iy0 = iy1 = int(std::floor(0.5 * (y0 + y1)));
+  ix0 = std::max(ix0, 0);
+  iy0 = std::max(iy0, 0);
+  ix1 = std::min(ix1, w_ - 1);
+  iy1 = std::min(iy1, h_ - 1);
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    for (int ix = ix0; ix <= ix1; ++ix) mark(size_t(iy) * size_t(w_) + size_t(ix), obstacle, visible);
+  }
+}
+
+void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool visible) {
+  const size_t n = poly.size();
+  if (n == 0) return;
+  std::vector<Vec2> c(n);
+  double ymin = 1e300, ymax = -1e300;
+  for (size_t i = 0; i < n; ++i) {
+    c[i] = {(poly[i].x - origin_.x) * inv_res_, (poly[i].y - origin_.y) * inv_res_};
+    ymin = std::min(ymin, c[i].y);
+    ymax = std::max(ymax, c[i].y);
+  }
+  auto mark_span = [&](int iy, double xa, double xb) {
+    int ix0 = std::max(0, int(std::floor(xa + kEdgeSlack)));
+    int ix1 =
+        std::min(w_ - 1, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
+    for (int ix = ix0; ix <= ix1; ++ix) mark(size_t(iy) * size_t(w_) + size_t(ix), obstacle, visible);
+  };
+  int row0 = std::max(0, int(std::floor(ymin + kEdgeSlack)));
+  int row1 = std::min(h_ - 1, int(std::ceil(ymax - kEdgeSlack)) - 1);
+  const bool flat = ymax - ymin < 2 * kEdgeSlack;  // a line along x, or a point
+  if (row1 < row0 && ymin >= 0 && ymin < h_) row0 = row1 = int(std::floor(ymin));
+  std::vector<double> xs;
+  for (int iy = row0; iy <= row1; ++iy) {
+    const double y0 = iy + kEdgeSlack, y1 = iy + 1 - kEdgeSlack;
+    // The outline: every cell of this row an edge passes through.
+    for (size_t i = 0; i < n; ++i) {
+      Vec2 a = c[i], b = c[(i + 1) % n];
+      if (a.y == b.y) {
+        if (flat || (a.y >= y0 && a.y <= y1)) {
+          mark_span(iy, std::min(a.x, b.x), std::max(a.x, b.x));
+        }
+        continue;
+      }
+      double ta = (y0 - a.y) / (b.y - a.y), tb = (y1 - a.y) / (b.y - a.y);
+      double lo = std::max(0.0, std::min(ta, tb)), hi = std::min(1.0, std::max(ta, tb));
+      if (lo > hi) continue;
+      double xa = a.x + lo * (b.x - a.x), xb = a.x + hi * (b.x - a.x);
+      mark_span(iy, std::min(xa, xb), std::max(xa, xb));
+    }
+    // The inside: cells whose centre is in the polygon (even-odd).
+    const double yc = iy + 0.5;
+    xs.clear();
+    for (size_t i = 0; i < n; ++i) {
+      Vec2 a = c[i], b = c[(i + 1) % n];
+      if ((a.y > yc) != (b.y > yc)) xs.push_back(a.x + (yc - a.y) / (b.y - a.y) * (b.x - a.x));
+    }
+    std::sort(xs.begin(), xs.end());
+    for (size_t k = 0; k + 1 < xs.size(); k += 2) {
+      int ix0 = std::max(0, int(std::ceil(xs[k] - 0.5)));
+      int ix1 = std::min(w_ - 1, int(std::floor(xs[k + 1] - 0.5)));
+      for (int ix = ix0; ix <= ix1; ++ix) mark(size_t(iy) * size_t(w_) + size_t(ix), obstacle, visible);
+    }
+  }
+}
+
+void StaticMap::finish() {
+  // Exact Euclidean distance transform (Felzenszwalb-Huttenlocher): a
+  // vertical pass in two row-order sweeps, then the lower envelope of
+  // parabolas along each row. Distances beyond 253 cells saturate.
+  const size_t w = size_t(w_), h = size_t(h_);
+  std::vector<uint8_t> g(w * h);
+  for (size_t y = 0; y < h; ++y) {
+    const uint8_t* row = &codes_[y * w];
+    uint8_t* gr = &g[y * w];
+    const uint8_t* above = y > 0 ? &g[(y - 1) * w] : nullptr;
+    for (size_t x = 0; x < w; ++x) {
+      gr[x] = row[x] <= kBarrier ? 0 : (above ? uint8_t(std::min(255, above[x] + 1)) : 255);
+    }
+  }
+  for (size_t y = h - 1; y-- > 0;) {
+    uint8_t* gr = &g[y * w];
+    const uint8_t* below = &g[(y + 1) * w];
+    for (size_t x = 0; x < w; ++x) gr[x] = uint8_t(std::min<int>(gr[x], below[x] + 1));
+  }
+  std::vector<double> f(w), z(w + 1);
+  std::vector<int> v(w);
+  for (size_t y = 0; y < h; ++y) {
+    uint8_t* row = &codes_[y * w];
+    const uint8_t* gr = &g[y * w];
+    for (size_t x = 0; x < w; ++x) f[x] = double(gr[x]) * double(gr[x]);
+    int k = 0;
+    v[0] = 0;
+    z[0] = -std::numeric_limits<double>::infinity();
+    z[1] = std::numeric_limits<double>::infinity();
+    for (int q = 1; q < w_; ++q) {
+      // z[0] is -infinity, so k never drops below 0.
+      auto cut = [&](int p) {
+        return ((f[size_t(q)] + double(q) * q) - (f[size_t(p)] + double(p) * p)) / (2.0 * (q - p));
+      };
+      double s = cut(v[size_t(k)]);
+      while (s <= z[size_t(k)]) {
+        --k;
+        s = cut(v[size_t(k)]);
+      }
+      ++k;
+      v[size_t(k)] = q;
+      z[size_t(k)] = s;
+      z[size_t(k) + 1] = std::numeric_limits<double>::infinity();
+    }
+    k = 0;
+    for (int q = 0; q < w_; ++q) {
+      while (z[size_t(k) + 1] < q) ++k;
+      if (row[q] <= kBarrier) continue;
+      int p = v[size_t(k)];
+      double d2 = double(q - p) * (q - p) + f[size_t(p)];
+      double d = std::floor(std::sqrt(d2) + 1e-9);
+      row[q] = uint8_t(kFreeBase + std::min(d, 253.0));
+    }
+  }
+}
+
+bool StaticMap::overlaps(std::span<const Vec2> poly, uint8_t mask) const {
+  if (poly.empty()) return false;
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  for (Vec2 p : poly) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  int ix0 = std::max(0, int(std::floor((xmin - origin_.x) * inv_res_)));
+  int ix1 = std::min(w_ - 1, int(std::floor((xmax - origin_.x) * inv_res_)));
+  int iy0 = std::max(0, int(std::floor((ymin - origin_.y) * inv_res_)));
+  int iy1 = std::min(h_ - 1, int(std::floor((ymax - origin_.y) * inv_res_)));
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    const uint8_t* row = &codes_[size_t(iy) * size_t(w_)];
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      uint8_t c = row[ix];
+      if (c > kBarrier || !((mask >> c) & 1u)) continue;
+      Vec2 lo{origin_.x + ix * res_, origin_.y + iy * res_};
+      if (polygon_overlaps_box(poly, lo, {lo.x + res_, lo.y + res_})) return true;
+    }
+  }
+  return false;
+}
+
+bool StaticMap::segment_hits(Vec2 a, Vec2 b, uint8_t mask) const {
+  Vec2 d = b - a;
+  double len = length(d);
+  if (len < 1e-12) {
+    int ix = int(std::floor((a.x - origin_.x) * inv_res_)),
+        iy = int(std::floor((a.y - origin_.y) * inv_res_));
+    if (ix < 0 || iy < 0 || ix >= w_ || iy >= h_) return false;
+    uint8_t c = code(ix, iy);
+    return c <= kBarrier && ((mask >> c) & 1u);
+  }
+  return cast(a, (1.0 / len) * d, float(len), mask) < float(len);
+}
+
+double StaticMap::clearance(Vec2 p) const {
+  double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_;
+  if (u < 0 || v < 0 || u >= w_ || v >= h_) {
+    double ex = std::max({0.0, -u, u - w_}), ey = std::max({0.0, -v, v - h_});
+    return std::hypot(ex, ey) * res_;
+  }
+  uint8_t c = code(int(u), int(v));
+  if (c <= kBarrier) return 0;
+  return std::max(0.0, (double(c) - kFreeBase - 1.4143) * res_);
+}
+
+}  // namespace troupe::sim

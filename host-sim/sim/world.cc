@@ -1,0 +1,282 @@
+#include "host-sim/sim/world.h"
+
+#include <stdexcept>
+
+#include "host-sim/sim/engine.h"
+#include "host-sim/sim/loader.h"
+
+namespace troupe::sim {
+
+World::World(const WorldDesc& desc, Random random) : e_(std::make_unique<Engine>(desc, random)) {}
+World::~World() = default;
+
+std::unique_ptr<World> World::load(const std::string& path, uint64_t seed, world::Diagnostics& diags) {
+  WorldDesc desc;
+  if (!load_world_file(path, desc, diags)) return nullptr;
+  return std::make_unique<World>(desc, Random(seed));
+}
+
+void Engine::update_sensors() {
+  {
+    PhaseTimer t(profile, ph_rangers);
+    update_rangers();
+  }
+  {
+    PhaseTimer t(profile, ph_blobfinders);
+    update_blobfinders();
+  }
+  {
+    PhaseTimer t(profile, ph_fiducials);
+    update_fiducials();
+  }
+  {
+    PhaseTimer t(profile, ph_bumpers);
+    update_bumpers();
+  }
+}
+
+void World::step() {
+  Engine& e = *e_;
+  {
+    PhaseTimer t(e.profile, e.ph_control);
+    e.control();
+  }
+  {
+    PhaseTimer t(e.profile, e.ph_integrate);
+    e.integrate();
+  }
+  {
+    PhaseTimer t(e.profile, e.ph_broadphase);
+    e.broadphase();
+  }
+  {
+    PhaseTimer t(e.profile, e.ph_collide);
+    e.collide();
+  }
+  {
+    PhaseTimer t(e.profile, e.ph_odometry);
+    e.odometry();
+    e.publish_states();
+  }
+  ++e.steps;
+  // From the step count, so the clock does not drift by summing.
+  e.time = double(e.steps) * e.desc.interval_sim;
+  e.update_sensors();
+  e.profile.count_step();
+}
+
+void World::refresh_sensors() {
+  e_->broadphase();
+  e_->update_sensors();
+}
+
+void World::reset() {
+  Engine& e = *e_;
+  for (RobotId i = 0; i < e.bodies.size(); ++i) e.start_robot(i);
+  e.steps = 0;
+  e.time = 0;
+  e.publish_states();
+  e.broadphase();
+}
+
+double World::time() const {
+  return e_->time;
+}
+uint64_t World::steps() const {
+  return e_->steps;
+}
+double World::interval() const {
+  return e_->desc.interval_sim;
+}
+const WorldDesc& World::desc() const {
+  return e_->desc;
+}
+
+size_t World::robot_count() const {
+  return e_->bodies.size();
+}
+const RobotInfo& World::robot(RobotId id) const {
+  return e_->info.at(id);
+}
+
+std::optional<RobotId> World::find_robot(std::string_view name) const {
+  for (RobotId i = 0; i < e_->info.size(); ++i) {
+    if (e_->info[i].name == name) return i;
+  }
+  return std::nullopt;
+}
+
+const RobotState& World::state(RobotId id) const {
+  return e_->states.at(id);
+}
+
+void World::set_pose(RobotId id, const Pose& pose) {
+  Engine& e = *e_;
+  Body& b = e.bodies.at(id);
+  b.pose = {pose.x, pose.y, wrap_angle(pose.a)};
+  b.proposed = b.pose;
+  b.moved = false;
+  b.stalled = false;
+  if (e.kinematics[id].localization == Localization::Gps)
+    e.odom[id].estimate = relative(e.odom[id].origin, b.pose);
+  e.publish_states();
+  e.broadphase();
+}
+
+void World::command(RobotId id, const Command& cmd) {
+  e_->bodies.at(id).cmd = cmd;
+}
+
+void World::set_odometry(RobotId id, const Pose& pose) {
+  Engine& e = *e_;
+  Odometry& o = e.odom.at(id);
+  o.estimate = pose;
+  // The odometry frame that puts the robot at `pose`.
+  const Pose& p = e.bodies[id].pose;
+  const double a = wrap_angle(p.a - pose.a);
+  const double c = std::cos(a), s = std::sin(a);
+  o.origin = {p.x - (c * pose.x - s * pose.y), p.y - (s * pose.x + c * pose.y), a};
+  e.publish_states();
+}
+
+PowerView World::power(RobotId id) const {
+  const PowerState& p = e_->power.at(id);
+  return {p.joules, p.capacity, p.watts};
+}
+
+void World::set_wanted(SensorRef s, bool wanted) {
+  Engine& e = *e_;
+  switch (s.kind) {
+    case SensorKind::Ranger:
+      e.rangers.at(s.index).wanted = wanted;
+      break;
+    case SensorKind::Blobfinder:
+      e.blobfinders.at(s.index).wanted = wanted;
+      break;
+    case SensorKind::Fiducial:
+      e.fiducials.at(s.index).wanted = wanted;
+      break;
+    case SensorKind::Bumper:
+      e.bumpers.at(s.index).wanted = wanted;
+      break;
+  }
+}
+
+bool World::wanted(SensorRef s) const {
+  switch (s.kind) {
+    case SensorKind::Ranger:
+      return e_->rangers.at(s.index).wanted;
+    case SensorKind::Blobfinder:
+      return e_->blobfinders.at(s.index).wanted;
+    case SensorKind::Fiducial:
+      return e_->fiducials.at(s.index).wanted;
+    case SensorKind::Bumper:
+      return e_->bumpers.at(s.index).wanted;
+  }
+  return false;
+}
+
+RobotId World::owner(SensorRef s) const {
+  switch (s.kind) {
+    case SensorKind::Ranger:
+      return e_->rangers.at(s.index).robot;
+    case SensorKind::Blobfinder:
+      return e_->blobfinders.at(s.index).robot;
+    case SensorKind::Fiducial:
+      return e_->fiducials.at(s.index).robot;
+    case SensorKind::Bumper:
+      return e_->bumpers.at(s.index).robot;
+  }
+  throw std::out_of_range("sensor kind");
+}
+
+const RangerDesc& World::ranger_desc(uint32_t index) const {
+  RobotId r = e_->rangers.at(index).robot;
+  return e_->desc.robots[r].rangers[index - e_->info[r].rangers.first];
+}
+
+RangerView World::ranger(uint32_t index) const {
+  const RangerState& rs = e_->rangers.at(index);
+  return {{e_->ranges.data() + rs.beam_first, rs.beam_count},
+          {e_->intensities.data() + rs.beam_first, rs.beam_count},
+          rs.step};
+}
+
+std::vector<Pose> World::ranger_beams(uint32_t index) const {
+  const Engine& e = *e_;
+  const RangerState& rs = e.rangers.at(index);
+  std::vector<Pose> out;
+  for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
+    const Transducer& td = e.transducers[t];
+    const Pose org = compose(e.bodies[rs.robot].pose, td.pose);
+    for (uint32_t s = 0; s < td.samples; ++s)
+      out.push_back({org.x, org.y, wrap_angle(org.a + td.start + td.incr * s)});
+  }
+  return out;
+}
+
+const BlobfinderDesc& World::blobfinder_desc(uint32_t index) const {
+  RobotId r = e_->blobfinders.at(index).robot;
+  return e_->desc.robots[r].blobfinders[index - e_->info[r].blobfinders.first];
+}
+
+BlobView World::blobfinder(uint32_t index) const {
+  const BlobState& s = e_->blobfinders.at(index);
+  const BlobfinderDesc& d = blobfinder_desc(index);
+  return {s.blobs, d.width, d.height, s.step};
+}
+
+const FiducialDesc& World::fiducial_desc(uint32_t index) const {
+  RobotId r = e_->fiducials.at(index).robot;
+  return e_->desc.robots[r].fiducials[index - e_->info[r].fiducials.first];
+}
+
+FiducialView World::fiducial(uint32_t index) const {
+  const FiducialState& s = e_->fiducials.at(index);
+  return {s.readings, s.step};
+}
+
+const BumperDesc& World::bumper_desc(uint32_t index) const {
+  RobotId r = e_->bumpers.at(index).robot;
+  return e_->desc.robots[r].bumpers[index - e_->info[r].bumpers.first];
+}
+
+BumperView World::bumper(uint32_t index) const {
+  const BumperState& s = e_->bumpers.at(index);
+  return {s.pressed, uint32_t(bumper_desc(index).segments.size()), s.step};
+}
+
+std::vector<std::vector<Vec2>> World::outline(RobotId id) const {
+  std::vector<Vec2> v;
+  std::vector<PolyRef> p;
+  e_->outline(id, e_->bodies.at(id).pose, v, p);
+  std::vector<std::vector<Vec2>> out;
+  for (const PolyRef& r : p) out.emplace_back(v.begin() + r.first, v.begin() + r.first + r.count);
+  return out;
+}
+
+const StaticMap& World::map() const {
+  return e_->map;
+}
+const Profile& World::profile() const {
+  return e_->profile;
+}
+Profile& World::profile() {
+  return e_->profile;
+}
+const Random& World::random() const {
+  return e_->random;
+}
+
+void World::set_raycast_per_cell(bool on) {
+  e_->map.set_per_cell(on);
+}
+
+size_t World::memory_bytes() const {
+  const Engine& e = *e_;
+  return e.map.memory_bytes() + e.hash.memory_bytes() + e.bodies.capacity() * sizeof(Body) +
+         e.verts.capacity() * sizeof(Vec2) + e.ranges.capacity() * 8 +
+         e.transducers.capacity() * sizeof(Transducer);
+}
+
+}  // namespace troupe::sim

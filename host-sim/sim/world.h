@@ -1,0 +1,227 @@
+// The troupe-sim engine's public face: a world of robots stepped at a fixed
+// interval, each with a command input and sensor outputs as plain structs.
+// The serving layer, controllers, viewer and SITL emulators use only this.
+//
+//   World world(desc, Random(seed));         // or World::load(path, seed, diags)
+//   world.set_wanted({SensorKind::Ranger, world.robot(r).rangers.first}, true);
+//   world.command(r, Command::velocity(0.3, 0, 0.1));
+//   world.step();                            // interval_sim of simulated time
+//   RangerView scan = world.ranger(i);       // ranges computed in that step
+//
+// Deterministic: the same description and seed give the same trajectory on
+// every run, whatever order sensors are read or wanted in.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "host-sim/sim/desc.h"
+#include "host-sim/sim/profile.h"
+#include "host-sim/sim/random.h"
+#include "host-sim/world/diagnostics.h"
+
+namespace troupe::sim {
+
+class StaticMap;
+struct Engine;
+
+/// A robot: index into the world's robots, 0..robot_count()-1, stable for
+/// the world's life (robots are never added or removed after load).
+using RobotId = uint32_t;
+
+enum class SensorKind : uint8_t { Ranger, Blobfinder, Fiducial, Bumper };
+
+/// One sensor of the world: its kind and its index among that kind's
+/// sensors (world-wide; a robot's are contiguous, see RobotInfo).
+struct SensorRef {
+  SensorKind kind;
+  uint32_t index;
+};
+
+/// A contiguous run of world-wide sensor indices.
+struct IndexRange {
+  uint32_t first = 0;
+  uint32_t count = 0;
+};
+
+/// What a robot carries, by world-wide sensor index.
+struct RobotInfo {
+  std::string name;
+  IndexRange rangers, blobfinders, fiducials, bumpers;
+  bool has_power = false;
+};
+
+enum class CommandMode : uint8_t { Velocity, Goto };
+
+/// What a robot is told to do. The newest command replaces the last.
+struct Command {
+  CommandMode mode = CommandMode::Velocity;
+  /// Velocity: x forward (m/s), y left (m/s; omni drive only) and turn rate
+  /// a (rad/s); a car drive reads a as its steering angle (rad).
+  /// Goto: the goal in the odometry frame (m, m, rad).
+  Pose value;
+
+  static Command velocity(double x, double y, double a) { return {CommandMode::Velocity, {x, y, a}}; }
+  static Command go_to(double x, double y, double a) { return {CommandMode::Goto, {x, y, a}}; }
+};
+
+/// What a robot's position device reports.
+struct RobotState {
+  /// Ground truth, world frame: m, m, rad.
+  Pose pose;
+  /// Current velocity, robot frame: m/s, m/s, rad/s.
+  Pose velocity;
+  /// Localization estimate (gps: exact; odom: integrated with error) in the
+  /// odometry frame: m, m, rad.
+  Pose odometry;
+  /// The last move was blocked by an obstacle or another robot.
+  bool stalled = false;
+  /// The battery is empty: the robot cannot move.
+  bool disabled = false;
+};
+
+struct RangerView {
+  /// One per beam, transducers in order, samples right to left: m. A beam
+  /// that hit nothing reads its transducer's range_max.
+  std::span<const float> ranges;
+  /// Reflectance of what each beam hit (ranger_return), 0 for nothing.
+  std::span<const float> intensities;
+  /// The step the data was computed at (it is not recomputed while nobody
+  /// wants it); UINT64_MAX before the first computation.
+  uint64_t step = UINT64_MAX;
+};
+
+struct Blob {
+  uint32_t color = 0;                            // 0x00RRGGBB
+  uint32_t channel = 0;                          // index in the blobfinder's colour list
+  int left = 0, right = 0, top = 0, bottom = 0;  // px, image x right, y down
+  double x = 0, y = 0;                           // centroid, px
+  uint32_t area = 0;                             // px
+  double range = 0;                              // m, mean over the blob's columns
+};
+
+struct BlobView {
+  std::span<const Blob> blobs;
+  int width = 0, height = 0;  // px
+  uint64_t step = UINT64_MAX;
+};
+
+struct FiducialReading {
+  /// The landmark's fiducial_return; -1 when too far to identify.
+  int id = 0;
+  double range = 0;    // m, to the landmark's centre
+  double bearing = 0;  // rad, left of the sensor's heading
+  /// The landmark's pose in the sensor frame: m, m, rad.
+  Pose pose;
+};
+
+struct FiducialView {
+  std::span<const FiducialReading> readings;
+  uint64_t step = UINT64_MAX;
+};
+
+struct BumperView {
+  uint32_t pressed = 0;  // bit i: segment i touches something
+  uint32_t count = 0;
+  uint64_t step = UINT64_MAX;
+};
+
+struct PowerView {
+  double joules = 0;    // J left
+  double capacity = 0;  // J
+  double watts = 0;     // W drawn in the last step
+};
+
+class World {
+ public:
+  /// Builds a world. `random` is the run's only source of randomness.
+  World(const WorldDesc& desc, Random random);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Loads a Stage world file. Warnings and errors go to `diags` (file:line);
+  /// nullptr when there were errors.
+  static std::unique_ptr<World> load(const std::string& path, uint64_t seed, world::Diagnostics& diags);
+
+  // ---- Time ------------------------------------------------------------------
+
+  /// Advances one interval_sim: commands, motion, collisions, odometry,
+  /// power, then the wanted sensors.
+  void step();
+  /// Computes the wanted sensors for the current state without moving
+  /// anything (after load, a teleport, or a sensor becoming wanted).
+  void refresh_sensors();
+  /// Every robot back to its start (pose, velocity, odometry, battery) and
+  /// the clock to 0.
+  void reset();
+
+  /// Simulated time since the start, s.
+  double time() const;
+  uint64_t steps() const;
+  /// Simulated time per step, s.
+  double interval() const;
+  const WorldDesc& desc() const;
+
+  // ---- Robots ----------------------------------------------------------------
+
+  size_t robot_count() const;
+  const RobotInfo& robot(RobotId id) const;
+  std::optional<RobotId> find_robot(std::string_view name) const;
+  const RobotState& state(RobotId id) const;
+  /// Teleports a robot (ground truth, world frame). Its odometry follows in
+  /// gps mode and keeps its estimate in odom mode, as a real robot's would.
+  void set_pose(RobotId id, const Pose& pose);
+  /// Replaces the robot's command (held until the next one).
+  void command(RobotId id, const Command& cmd);
+  /// Restarts odometry at `pose` (odometry frame).
+  void set_odometry(RobotId id, const Pose& pose);
+  PowerView power(RobotId id) const;
+
+  // ---- Sensors ---------------------------------------------------------------
+
+  /// Only wanted sensors are computed; the serving layer sets this from
+  /// whether anyone reads them.
+  void set_wanted(SensorRef sensor, bool wanted);
+  bool wanted(SensorRef sensor) const;
+  /// The robot a sensor is on.
+  RobotId owner(SensorRef sensor) const;
+
+  const RangerDesc& ranger_desc(uint32_t index) const;
+  RangerView ranger(uint32_t index) const;
+  /// Each beam's origin and direction, world frame (m, m, rad), at the
+  /// robot's current pose, in the order of RangerView::ranges.
+  std::vector<Pose> ranger_beams(uint32_t index) const;
+  const BlobfinderDesc& blobfinder_desc(uint32_t index) const;
+  BlobView blobfinder(uint32_t index) const;
+  const FiducialDesc& fiducial_desc(uint32_t index) const;
+  FiducialView fiducial(uint32_t index) const;
+  const BumperDesc& bumper_desc(uint32_t index) const;
+  BumperView bumper(uint32_t index) const;
+
+  // ---- Inspection ------------------------------------------------------------
+
+  /// The robot's outline at its current pose, world frame (snapshots,
+  /// viewer).
+  std::vector<std::vector<Vec2>> outline(RobotId id) const;
+  /// The static obstacles.
+  const StaticMap& map() const;
+  /// Time per phase of the step.
+  const Profile& profile() const;
+  Profile& profile();
+  const Random& random() const;
+  /// Bytes held by the engine's arrays (grid, hash, robots, sensors).
+  size_t memory_bytes() const;
+  /// Benchmarks only: cast every ray cell by cell (the baseline the
+  /// distance-field marching is measured against). Results are the same.
+  void set_raycast_per_cell(bool on);
+
+ private:
+  std::unique_ptr<Engine> e_;
+};
+
+}  // namespace troupe::sim

@@ -1,0 +1,89 @@
+// troupe-sim: simulates a Stage world and serves its robots over the wire.
+// See options.cc for the command line.
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "host-sim/troupe_sim/runner.h"
+#include "runtime/log.h"
+
+namespace {
+
+// Stops the run on SIGINT/SIGTERM, read through a signalfd in the loop.
+class SignalWatch final : public troupe::FdHandler {
+ public:
+  SignalWatch(troupe::EventLoop& loop, troupe::sim::Runner& runner) : runner_(runner) {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigprocmask(SIG_BLOCK, &set, nullptr);
+    fd_ = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
+    if (fd_ >= 0) loop.watch(fd_, 1 /*EPOLLIN*/, this);
+  }
+  ~SignalWatch() {
+    if (fd_ >= 0) close(fd_);
+  }
+  void on_fd(int fd, uint32_t) override {
+    signalfd_siginfo info{};
+    if (read(fd, &info, sizeof info) == sizeof info) {
+      troupe::log_info("%s: stopping", strsignal(int(info.ssi_signo)));
+      runner_.request_stop();
+    }
+  }
+
+ private:
+  troupe::sim::Runner& runner_;
+  int fd_ = -1;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  troupe::set_log_program("troupe-sim");
+  troupe::sim::SimOptions options;
+  std::string error;
+  bool help = false;
+  if (!troupe::sim::parse_sim_options(argc, argv, options, error, help)) {
+    std::fprintf(stderr, "troupe-sim: %s\n\n%s", error.c_str(), troupe::sim::sim_usage());
+    return 2;
+  }
+  if (help) {
+    std::printf("%s", troupe::sim::sim_usage());
+    return 0;
+  }
+  troupe::LogLevel level;
+  if (!troupe::parse_log_level(options.log_level.c_str(), level)) {
+    std::fprintf(stderr, "troupe-sim: unknown log level %s\n", options.log_level.c_str());
+    return 2;
+  }
+  troupe::set_log_level(level);
+
+  troupe::sim::Runner runner;
+  troupe::world::Diagnostics diags;
+  const bool ok = runner.init(options, diags, error);
+  // Warnings (unknown keys, ...) and errors, each with file:line.
+  for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
+  if (!ok) {
+    if (!error.empty()) std::fprintf(stderr, "troupe-sim: %s\n", error.c_str());
+    return 1;
+  }
+  SignalWatch signals(runner.node().loop(), runner);
+  const troupe::sim::World& w = runner.world();
+  size_t controlled = 0;
+  for (const auto& r : w.desc().robots) controlled += r.ctrl.empty() ? 0 : 1;
+  troupe::log_info("%s: %zu robots (%zu with controllers), step %.0f ms, seed %llu", options.world.c_str(),
+                   w.robot_count(), controlled, w.interval() * 1e3,
+                   static_cast<unsigned long long>(options.seed));
+  if (options.serve) {
+    // The port goes to stdout on its own line, so scripts and tests that
+    // asked for port 0 can read it.
+    std::printf("listening on %s:%u\n", options.listen.c_str(), unsigned(runner.port()));
+    std::fflush(stdout);
+    troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(runner.port()));
+  }
+  return runner.run();
+}

@@ -1,0 +1,144 @@
+#include "host-sim/troupe_sim/options.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace troupe::sim {
+
+const char* sim_usage() {
+  return "usage: troupe-sim WORLD [options]\n"
+         "\n"
+         "Simulates the Stage world file WORLD and serves every robot's devices over the\n"
+         "wire: robot i's devices are ROBOT/INTERFACE:INDEX (r0/position2d:0, r0/ranger:1)\n"
+         "on one port, and simulation:0 pauses, steps, teleports and resets.\n"
+         "\n"
+         "options:\n"
+         "  --headless              no window (always; the viewer connects over the wire)\n"
+         "  --fast                  run as fast as possible\n"
+         "  --speed X               run at X times real time (0: as fast as possible)\n"
+         "  --quit-time SECONDS     stop after this much simulated time\n"
+         "  --paused                start paused\n"
+         "  --seed N                seed of every random number in the run (default 0)\n"
+         "  --port P                TCP port (default 6665; 0: any free port, printed)\n"
+         "  --listen ADDR           address to listen on (default 127.0.0.1)\n"
+         "  --port-per-robot        also serve robot i alone as robot 0 on port P+1+i\n"
+         "  --no-serve              no network at all (batch runs)\n"
+         "  --snapshot FILE.png     picture of the world at the end\n"
+         "  --snapshot-every S      ... and every S simulated seconds\n"
+         "  --log FILE.csv          trajectory log: time,robot,x,y,a every step\n"
+         "  --ctrl-path DIR         where controllers (ctrl \"name\") are looked for\n"
+         "  --ignore-missing-ctrl   load anyway; robots whose controller is missing stay idle\n"
+         "  --no-ctrl               run no controllers: every robot waits for clients\n"
+         "  --profile               print the time spent in each phase of the step at the end\n"
+         "  --log-level LEVEL       error, warn, info (default) or debug\n"
+         "\n"
+         "examples:\n"
+         "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
+         "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n";
+}
+
+namespace {
+
+bool number(const char* text, double& out) {
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(text, &end);
+  return end != text && *end == '\0' && errno == 0 && std::isfinite(out);
+}
+
+}  // namespace
+
+bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::string& error, bool& help) {
+  help = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](const char*& v) {
+      if (i + 1 >= argc) {
+        error = a + " needs a value";
+        return false;
+      }
+      v = argv[++i];
+      return true;
+    };
+    auto real = [&](double& v, double min) {
+      const char* t;
+      if (!value(t)) return false;
+      if (!number(t, v) || v < min) {
+        error = a + ": not a number >= " + std::to_string(min) + ": " + t;
+        return false;
+      }
+      return true;
+    };
+    const char* t = nullptr;
+    double d = 0;
+    if (a == "-h" || a == "--help") {
+      help = true;
+      return true;
+    } else if (a == "--headless") {
+      out.headless = true;
+    } else if (a == "--fast") {
+      out.fast = true;
+    } else if (a == "--paused") {
+      out.paused = true;
+    } else if (a == "--port-per-robot") {
+      out.port_per_robot = true;
+    } else if (a == "--no-serve") {
+      out.serve = false;
+    } else if (a == "--ignore-missing-ctrl") {
+      out.ignore_missing_ctrl = true;
+    } else if (a == "--no-ctrl") {
+      out.no_ctrl = true;
+    } else if (a == "--profile") {
+      out.profile = true;
+    } else if (a == "--speed") {
+      if (!real(out.speed, 0)) return false;
+    } else if (a == "--quit-time") {
+      if (!real(out.quit_time, 0)) return false;
+    } else if (a == "--snapshot-every") {
+      if (!real(out.snapshot_every, 0)) return false;
+    } else if (a == "--seed") {
+      if (!real(d, 0) || d != std::floor(d) || d > 1.8e19) {
+        if (error.empty()) error = "--seed: not a whole number";
+        return false;
+      }
+      out.seed = uint64_t(d);
+    } else if (a == "--port") {
+      if (!real(d, 0) || d > 65535 || d != std::floor(d)) {
+        if (error.empty()) error = "--port: not a port number (0..65535)";
+        return false;
+      }
+      out.port = uint16_t(d);
+    } else if (a == "--listen") {
+      if (!value(t)) return false;
+      out.listen = t;
+    } else if (a == "--snapshot") {
+      if (!value(t)) return false;
+      out.snapshot = t;
+    } else if (a == "--log") {
+      if (!value(t)) return false;
+      out.log = t;
+    } else if (a == "--ctrl-path") {
+      if (!value(t)) return false;
+      out.ctrl_path.push_back(t);
+    } else if (a == "--log-level") {
+      if (!value(t)) return false;
+      out.log_level = t;
+    } else if (!a.empty() && a[0] == '-') {
+      error = "unknown option " + a;
+      return false;
+    } else if (out.world.empty()) {
+      out.world = a;
+    } else {
+      error = "one world file only; also got " + a;
+      return false;
+    }
+  }
+  if (out.world.empty()) {
+    error = "no world file given";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace troupe::sim

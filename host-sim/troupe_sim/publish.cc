@@ -1,0 +1,124 @@
+// The data messages of the simulated devices.
+#include <algorithm>
+#include <cmath>
+
+#include "host-sim/troupe_sim/sim_server.h"
+
+namespace troupe::sim {
+
+void SimServer::publish() {
+  for (const Device& d : devices_) {
+    if (!node_->has_readers(d.id)) continue;
+    switch (d.kind) {
+      case Kind::Position:
+        publish_position(d);
+        break;
+      case Kind::Ranger:
+        publish_ranger(d);
+        break;
+      case Kind::Blobfinder:
+        publish_blobs(d);
+        break;
+      case Kind::Fiducial:
+        publish_fiducials(d);
+        break;
+      case Kind::Bumper:
+        publish_bumper(d);
+        break;
+      case Kind::Power:
+        publish_power(d);
+        break;
+      case Kind::Simulation:
+        publish_clock(d);
+        break;
+    }
+  }
+}
+
+void SimServer::publish_position(const Device& d) {
+  const RobotState& s = world_.state(d.robot);
+  auto& b = node_->begin();
+  wire::Pose2d pose(float(s.odometry.x), float(s.odometry.y), float(s.odometry.a));
+  wire::Pose2d vel(float(s.velocity.x), float(s.velocity.y), float(s.velocity.a));
+  auto body = wire::CreatePosition2dState(b, &pose, &vel, s.stalled);
+  node_->publish(d.id, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union());
+}
+
+void SimServer::publish_ranger(const Device& d) {
+  const RangerView v = world_.ranger(d.index);
+  if (v.step == UINT64_MAX) return;  // not computed yet
+  const RangerDesc& rd = world_.ranger_desc(d.index);
+  double max_range = 0;
+  for (const TransducerDesc& t : rd.transducers) max_range = std::max(max_range, t.range_max);
+  // Millimetres unless the sensor reaches beyond what 16 bits of them hold.
+  const double scale = max_range <= 65.535 ? 0.001 : max_range / 65535.0;
+  scratch_ranges_.resize(v.ranges.size());
+  for (size_t i = 0; i < v.ranges.size(); ++i) {
+    scratch_ranges_[i] = uint16_t(std::clamp(std::lround(v.ranges[i] / scale), 0L, 65535L));
+  }
+  float min_angle = 0, res = 0;
+  if (rd.transducers.size() == 1 && rd.transducers[0].samples > 1) {
+    const TransducerDesc& t = rd.transducers[0];
+    min_angle = float(wrap_angle(t.pose.a - rd.pose.a) - t.fov / 2);
+    res = float(t.fov / (t.samples - 1));
+  }
+  auto& b = node_->begin();
+  auto ranges = b.CreateVector(scratch_ranges_);
+  auto body = wire::CreateRangerScan(b, ranges, float(scale), min_angle, res, float(max_range));
+  node_->publish(d.id, uint8_t(wire::RangerDataSub::Scan), wire::Body::RangerScan, body.Union());
+}
+
+void SimServer::publish_blobs(const Device& d) {
+  const BlobView v = world_.blobfinder(d.index);
+  if (v.step == UINT64_MAX) return;
+  std::vector<wire::Blob> blobs;
+  blobs.reserve(v.blobs.size());
+  for (const Blob& bl : v.blobs) {
+    const uint16_t range_mm = uint16_t(std::clamp(std::lround(bl.range * 1000), 0L, 65535L));
+    blobs.emplace_back(bl.color, bl.area, uint16_t(std::lround(bl.x)), uint16_t(std::lround(bl.y)),
+                       uint16_t(bl.left), uint16_t(bl.right), uint16_t(bl.top), uint16_t(bl.bottom), range_mm,
+                       uint16_t(bl.channel));
+  }
+  auto& b = node_->begin();
+  auto body = wire::CreateBlobList(b, b.CreateVectorOfStructs(blobs), uint16_t(v.width), uint16_t(v.height));
+  node_->publish(d.id, uint8_t(wire::BlobfinderDataSub::Blobs), wire::Body::BlobList, body.Union());
+}
+
+void SimServer::publish_fiducials(const Device& d) {
+  const FiducialView v = world_.fiducial(d.index);
+  if (v.step == UINT64_MAX) return;
+  std::vector<wire::Fiducial> out;
+  out.reserve(v.readings.size());
+  for (const FiducialReading& f : v.readings) {
+    out.emplace_back(f.id, float(f.pose.x), float(f.pose.y), float(f.pose.a));
+  }
+  auto& b = node_->begin();
+  auto body = wire::CreateFiducialList(b, b.CreateVectorOfStructs(out));
+  node_->publish(d.id, uint8_t(wire::FiducialDataSub::Detections), wire::Body::FiducialList, body.Union());
+}
+
+void SimServer::publish_bumper(const Device& d) {
+  const BumperView v = world_.bumper(d.index);
+  if (v.step == UINT64_MAX) return;
+  auto& b = node_->begin();
+  auto body = wire::CreateBumperState(b, v.pressed, uint8_t(std::min<uint32_t>(v.count, 255)));
+  node_->publish(d.id, uint8_t(wire::BumperDataSub::State), wire::Body::BumperState, body.Union());
+}
+
+void SimServer::publish_power(const Device& d) {
+  const PowerView p = world_.power(d.robot);
+  auto& b = node_->begin();
+  const float percent = p.capacity > 0 ? float(100.0 * p.joules / p.capacity) : 0.0f;
+  auto body =
+      wire::CreatePowerState(b, flatbuffers::nullopt, percent, float(p.joules), float(p.watts), false);
+  node_->publish(d.id, uint8_t(wire::PowerDataSub::State), wire::Body::PowerState, body.Union());
+}
+
+void SimServer::publish_clock(const Device& d) {
+  auto& b = node_->begin();
+  auto body = wire::CreateSimClock(b, uint64_t(std::llround(world_.time() * 1e6)), world_.steps(),
+                                   control_.paused, float(control_.speed), float(control_.real_time_factor));
+  node_->publish(d.id, uint8_t(wire::SimulationDataSub::Clock), wire::Body::SimClock, body.Union());
+}
+
+}  // namespace troupe::sim

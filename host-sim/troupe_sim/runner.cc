@@ -1,0 +1,204 @@
+#include "host-sim/troupe_sim/runner.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "host-sim/sim/snapshot.h"
+#include "runtime/clock.h"
+#include "runtime/log.h"
+
+namespace troupe::sim {
+namespace {
+
+uint64_t sim_clock_us(void* ctx) {
+  return uint64_t(std::llround(static_cast<World*>(ctx)->time() * 1e6));
+}
+
+}  // namespace
+
+Runner::~Runner() {
+  for (auto& n : nodes_) n->shutdown();
+}
+
+bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error) {
+  options_ = options;
+  world_ = World::load(options.world, options.seed, diags);
+  if (!world_) return false;
+
+  ControllerHost::Options copts;
+  copts.search_path = options.ctrl_path;
+  if (const char* env = std::getenv("TROUPE_CTRL_PATH")) {
+    std::string s = env;
+    for (size_t at = 0; at <= s.size();) {
+      size_t colon = s.find(':', at);
+      if (colon == std::string::npos) colon = s.size();
+      if (colon > at) copts.search_path.push_back(s.substr(at, colon - at));
+      at = colon + 1;
+    }
+  }
+  copts.search_path.push_back(std::filesystem::path(options.world).parent_path().string());
+#ifdef TROUPE_CONTROLLER_DIR
+  copts.search_path.push_back(TROUPE_CONTROLLER_DIR);
+#endif
+  copts.ignore_missing = options.ignore_missing_ctrl;
+  if (!options.no_ctrl && !controllers_.load(*world_, copts, diags)) return false;
+
+  const WorldDesc& d = world_->desc();
+  control_.paused = options.paused || d.paused;
+  control_.speed = options.fast ? 0 : (options.speed >= 0 ? options.speed : std::max(0.0, d.speedup));
+  control_.step = [this](uint32_t n) { step(n); };
+  control_.reset = [this] { reset(); };
+  quit_time_ = options.quit_time >= 0 ? options.quit_time : d.quit_time;
+  next_snapshot_ = options.snapshot_every;
+
+  // One node serves everything; with --port-per-robot, one more per robot.
+  const int extra = options.port_per_robot ? int(world_->robot_count()) : 0;
+  for (int i = -1; i < extra; ++i) {
+    Node::Options no;
+    no.name = i < 0 ? "troupe-sim" : "troupe-sim/" + world_->robot(RobotId(i)).name;
+    no.listen = options.listen;
+    no.port = options.port == 0 ? 0 : uint16_t(options.port + (i + 1));
+    no.max_clients = uint16_t(std::min<size_t>(4096, 64 + 2 * world_->robot_count()));
+    auto node = std::make_unique<Node>(no);
+    node->set_clock(sim_clock_us, world_.get());
+    auto server = std::make_unique<SimServer>(*world_, control_, i);
+    SimServer* raw = server.get();
+    if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
+    if (options.serve && !node->start(error)) {
+      error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
+      return false;
+    }
+    servers_.push_back(raw);
+    nodes_.push_back(std::move(node));
+    if (!options.serve) break;
+  }
+  if (!options.log.empty() && !log_.open(options.log, error)) return false;
+  for (SimServer* s : servers_) s->sync_wanted();
+  world_->refresh_sensors();
+  return true;
+}
+
+uint16_t Runner::port() const {
+  return options_.serve && !nodes_.empty() ? nodes_.front()->port() : 0;
+}
+
+uint16_t Runner::robot_port(RobotId id) const {
+  return options_.serve && options_.port_per_robot && id + 1 < nodes_.size() ? nodes_[id + 1]->port() : 0;
+}
+
+void Runner::serve(int64_t wait_us) {
+  for (size_t i = 1; i < nodes_.size(); ++i) nodes_[i]->poll(0);
+  nodes_.front()->poll(wait_us);
+  // A sensor someone started reading is computed at once while paused, so
+  // the reader does not wait for the next step.
+  bool woke = false;
+  for (SimServer* s : servers_) woke = s->sync_wanted() || woke;
+  if (woke && control_.paused) {
+    world_->refresh_sensors();
+    for (SimServer* s : servers_) s->publish();
+  }
+}
+
+void Runner::step(uint32_t n) {
+  for (uint32_t i = 0; i < n && !stop_; ++i) {
+    for (SimServer* s : servers_) s->sync_wanted();
+    controllers_.update(*world_);
+    world_->step();
+    for (SimServer* s : servers_) s->publish();
+    log_.record(*world_);
+    for (const std::string& e : controllers_.take_errors()) log_warn("%s", e.c_str());
+    if (!options_.snapshot.empty() && next_snapshot_ > 0 && world_->time() + 1e-9 >= next_snapshot_) {
+      std::string err;
+      if (!write_snapshot(*world_, options_.snapshot, err)) log_warn("%s", err.c_str());
+      next_snapshot_ += options_.snapshot_every;
+    }
+  }
+}
+
+void Runner::reset() {
+  world_->reset();
+  world_->refresh_sensors();
+  for (SimServer* s : servers_) s->publish();
+  anchor_speed_ = -1;  // re-anchor the real-time pacing
+  next_snapshot_ = options_.snapshot_every;
+}
+
+void Runner::progress(bool final) {
+  // The real-time factor over the last second of wall time.
+  const uint64_t now = monotonic_us();
+  if (rtf_wall_us_ == 0) {
+    rtf_wall_us_ = now;
+    rtf_sim_ = world_->time();
+  } else if (now - rtf_wall_us_ >= 1000000 || final) {
+    control_.real_time_factor = (world_->time() - rtf_sim_) / ((now - rtf_wall_us_) * 1e-6);
+    rtf_wall_us_ = now;
+    rtf_sim_ = world_->time();
+  }
+  // A progress line for fast runs on a terminal.
+  if (control_.speed != 0 || !isatty(STDERR_FILENO)) return;
+  if (!final && now - progress_wall_us_ < 250000) return;
+  progress_wall_us_ = now;
+  char eta[48] = "";
+  if (quit_time_ > 0 && control_.real_time_factor > 0) {
+    std::snprintf(eta, sizeof eta, "  ETA %.0f s", (quit_time_ - world_->time()) / control_.real_time_factor);
+  }
+  std::fprintf(stderr, "\rsim time %.1f s  %.0fx real time%s   ", world_->time(), control_.real_time_factor,
+               eta);
+  if (final) std::fprintf(stderr, "\n");
+  progress_shown_ = true;
+}
+
+int Runner::run() {
+  const int64_t kMaxWaitUs = 50000;  // answer the network at least this often
+  while (!stop_) {
+    if (quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_) break;
+    if (control_.paused) {
+      anchor_paused_ = true;
+      serve(kMaxWaitUs);
+      continue;
+    }
+    if (control_.speed > 0) {
+      // Real time (or a multiple): step when the wall clock says so.
+      const uint64_t now = monotonic_us();
+      if (anchor_paused_ || anchor_speed_ != control_.speed) {
+        anchor_wall_us_ = now;
+        anchor_sim_ = world_->time();
+        anchor_speed_ = control_.speed;
+        anchor_paused_ = false;
+      }
+      const double due = double(anchor_wall_us_) + (world_->time() - anchor_sim_) / control_.speed * 1e6;
+      if (double(now) < due) {
+        serve(std::min<int64_t>(kMaxWaitUs, int64_t(due - double(now)) + 1));
+        continue;
+      }
+      serve(0);
+    } else {
+      anchor_paused_ = true;
+      serve(0);
+    }
+    if (stop_ || control_.paused) continue;
+    step(1);
+    progress(false);
+  }
+  progress(true);
+  if (!options_.snapshot.empty()) {
+    std::string err;
+    if (!write_snapshot(*world_, options_.snapshot, err)) {
+      log_error("%s", err.c_str());
+      return 1;
+    }
+    log_info("snapshot: %s", options_.snapshot.c_str());
+  }
+  if (!log_.close()) {
+    log_error("the trajectory log %s could not be written completely", options_.log.c_str());
+    return 1;
+  }
+  if (options_.profile) std::fprintf(stderr, "%s", world_->profile().table().c_str());
+  return 0;
+}
+
+}  // namespace troupe::sim

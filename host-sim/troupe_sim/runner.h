@@ -1,0 +1,72 @@
+// troupe-sim's main loop: a world, its controllers and the servers that put
+// its robots on the wire, stepped in real time or as fast as possible,
+// between polls of the network.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host-sim/sim/controller_host.h"
+#include "host-sim/sim/trajectory_log.h"
+#include "host-sim/sim/world.h"
+#include "host-sim/troupe_sim/options.h"
+#include "host-sim/troupe_sim/sim_server.h"
+#include "runtime/node.h"
+
+namespace troupe::sim {
+
+class Runner {
+ public:
+  Runner() = default;
+  ~Runner();
+  Runner(const Runner&) = delete;
+  Runner& operator=(const Runner&) = delete;
+
+  /// Loads the world and its controllers and opens the servers. Problems
+  /// with the world file go to `diags` (file:line); others to `error`.
+  bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error);
+  /// Runs until the quit time, request_stop(), or a fatal problem. Returns
+  /// the process exit code.
+  int run();
+  /// Safe from any thread or a signal watcher.
+  void request_stop() { stop_ = true; }
+
+  /// The bound TCP port of the main server (0 without one).
+  uint16_t port() const;
+  /// With --port-per-robot: the port serving robot `id` alone (0 otherwise).
+  uint16_t robot_port(RobotId id) const;
+  World& world() { return *world_; }
+  Node& node() { return *nodes_.front(); }
+
+ private:
+  void step(uint32_t n);
+  void serve(int64_t wait_us);
+  void progress(bool final);
+  void reset();
+
+  SimOptions options_;
+  std::unique_ptr<World> world_;
+  ControllerHost controllers_;
+  SimControl control_;
+  std::vector<std::unique_ptr<Node>> nodes_;
+  std::vector<SimServer*> servers_;  // owned by their nodes
+  TrajectoryLog log_;
+  double quit_time_ = 0;
+  double next_snapshot_ = 0;
+  std::atomic<bool> stop_{false};
+  // Real-time pacing: simulated time `anchor_sim_` was reached at wall time
+  // `anchor_wall_us_` (re-anchored on resume and speed changes).
+  uint64_t anchor_wall_us_ = 0;
+  double anchor_sim_ = 0;
+  double anchor_speed_ = -1;
+  bool anchor_paused_ = true;
+  // Real-time factor over the last second or so.
+  uint64_t rtf_wall_us_ = 0;
+  double rtf_sim_ = 0;
+  uint64_t progress_wall_us_ = 0;
+  bool progress_shown_ = false;
+};
+
+}  // namespace troupe::sim

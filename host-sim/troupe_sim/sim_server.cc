@@ -1,0 +1,306 @@
+#include "host-sim/troupe_sim/sim_server.h"
+
+#include <cmath>
+
+namespace troupe::sim {
+
+using wire::ErrorCode;
+
+SimServer::SimServer(World& world, SimControl& control, int only)
+    : world_(world), control_(control), only_(only) {}
+
+void SimServer::add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface,
+                    uint16_t local) {
+  const bool alone = only_ >= 0;
+  const uint16_t number = alone ? 0 : uint16_t(robot);
+  const std::string name = kind == Kind::Simulation ? std::string() : world_.robot(robot).name;
+  Device d;
+  d.kind = kind;
+  d.robot = robot;
+  d.index = index;
+  d.id = node.add_device(wire::Address(number, uint16_t(iface), local), this, "troupe-sim", name);
+  if (first_ == kNoDevice) first_ = d.id;
+  devices_.push_back(d);
+}
+
+bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
+  if (world_.robot_count() > 0xFFFF) {
+    error = "more than 65535 robots cannot be addressed";
+    return false;
+  }
+  for (RobotId r = 0; r < world_.robot_count(); ++r) {
+    if (only_ >= 0 && r != RobotId(only_)) continue;
+    const RobotInfo& info = world_.robot(r);
+    add(node, Kind::Position, r, 0, wire::Interface::Position2d, 0);
+    for (uint32_t k = 0; k < info.rangers.count; ++k) {
+      add(node, Kind::Ranger, r, info.rangers.first + k, wire::Interface::Ranger, uint16_t(k));
+    }
+    for (uint32_t k = 0; k < info.blobfinders.count; ++k) {
+      add(node, Kind::Blobfinder, r, info.blobfinders.first + k, wire::Interface::Blobfinder, uint16_t(k));
+    }
+    for (uint32_t k = 0; k < info.fiducials.count; ++k) {
+      add(node, Kind::Fiducial, r, info.fiducials.first + k, wire::Interface::Fiducial, uint16_t(k));
+    }
+    for (uint32_t k = 0; k < info.bumpers.count; ++k) {
+      add(node, Kind::Bumper, r, info.bumpers.first + k, wire::Interface::Bumper, uint16_t(k));
+    }
+    if (info.has_power) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
+  }
+  if (only_ < 0) add(node, Kind::Simulation, 0, 0, wire::Interface::Simulation, 0);
+  for (Device& d : devices_) {
+    if (d.id == kNoDevice) {
+      error = "two devices with one address";
+      return false;
+    }
+    // Sensors already wanted (by controllers) stay wanted.
+    if (d.kind == Kind::Ranger) d.pinned = world_.wanted({SensorKind::Ranger, d.index});
+    if (d.kind == Kind::Blobfinder) d.pinned = world_.wanted({SensorKind::Blobfinder, d.index});
+    if (d.kind == Kind::Fiducial) d.pinned = world_.wanted({SensorKind::Fiducial, d.index});
+    if (d.kind == Kind::Bumper) d.pinned = world_.wanted({SensorKind::Bumper, d.index});
+  }
+  return true;
+}
+
+const SimServer::Device* SimServer::find(DeviceId id) const {
+  if (first_ == kNoDevice || id < first_ || id - first_ >= devices_.size()) return nullptr;
+  return &devices_[id - first_];
+}
+
+bool SimServer::sync_wanted() {
+  bool woke = false;
+  for (const Device& d : devices_) {
+    SensorKind kind;
+    switch (d.kind) {
+      case Kind::Ranger:
+        kind = SensorKind::Ranger;
+        break;
+      case Kind::Blobfinder:
+        kind = SensorKind::Blobfinder;
+        break;
+      case Kind::Fiducial:
+        kind = SensorKind::Fiducial;
+        break;
+      case Kind::Bumper:
+        kind = SensorKind::Bumper;
+        break;
+      default:
+        continue;
+    }
+    const bool want = d.pinned || node_->has_readers(d.id);
+    if (want != world_.wanted({kind, d.index})) {
+      world_.set_wanted({kind, d.index}, want);
+      woke = woke || want;
+    }
+  }
+  return woke;
+}
+
+void SimServer::on_command(DeviceId id, const wire::Message& cmd) {
+  const Device* d = find(id);
+  if (d == nullptr || d->kind != Kind::Position || !d->motors_on) return;
+  if (const wire::Position2dVel* v = cmd.body_as_Position2dVel(); v && v->vel()) {
+    world_.command(d->robot, Command::velocity(v->vel()->x(), v->vel()->y(), v->vel()->a()));
+  } else if (const wire::Position2dGoto* g = cmd.body_as_Position2dGoto(); g && g->pose()) {
+    world_.command(d->robot, Command::go_to(g->pose()->x(), g->pose()->y(), g->pose()->a()));
+  }
+}
+
+void SimServer::on_request(DeviceId id, const wire::Message& req, RequestToken token) {
+  Device* d = const_cast<Device*>(find(id));
+  if (d == nullptr) return node_->nack(token, ErrorCode::NoSuchDevice, "not a simulated device");
+  const uint8_t sub = req.header()->subtype();
+  switch (d->kind) {
+    case Kind::Simulation:
+      return simulation_request(req, token);
+    case Kind::Position:
+      return position_request(*d, req, token);
+    case Kind::Ranger:
+      return ranger_request(*d, req, token);
+    case Kind::Fiducial:
+      if (sub == uint8_t(wire::FiducialReqSub::Geometry)) {
+        const FiducialDesc& f = world_.fiducial_desc(d->index);
+        auto& b = node_->begin();
+        wire::Pose3d pose(float(f.pose.x), float(f.pose.y), 0, 0, 0, float(f.pose.a));
+        wire::Vec3 size(0, 0, 0);
+        auto body = wire::CreateFiducialGeometry(b, &pose, &size, float(f.range_min), float(f.range_max),
+                                                 float(f.fov));
+        return node_->ack(token, wire::Body::FiducialGeometry, body.Union());
+      }
+      break;
+    case Kind::Bumper:
+      if (sub == uint8_t(wire::BumperReqSub::Geometry)) {
+        const BumperDesc& bd = world_.bumper_desc(d->index);
+        std::vector<wire::BumperDef> defs;
+        for (const BumperSegment& s : bd.segments) {
+          const Pose p = compose(bd.pose, s.pose);
+          defs.emplace_back(wire::Pose2d(float(p.x), float(p.y), float(p.a)), float(s.length), 0.0f);
+        }
+        auto& b = node_->begin();
+        auto body = wire::CreateBumperGeometry(b, b.CreateVectorOfStructs(defs));
+        return node_->ack(token, wire::Body::BumperGeometry, body.Union());
+      }
+      break;
+    default:
+      break;
+  }
+  Driver::on_request(id, req, token);
+}
+
+void SimServer::position_request(Device& d, const wire::Message& req, RequestToken token) {
+  using Sub = wire::Position2dReqSub;
+  const RobotDesc& r = world_.desc().robots[d.robot];
+  switch (Sub(req.header()->subtype())) {
+    case Sub::Geometry: {
+      // Centre of the outline's box relative to the centre of rotation.
+      double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+      for (const auto& poly : r.polygons) {
+        for (Vec2 p : poly) {
+          x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+        }
+      }
+      if (x1 < x0) x0 = -r.size.x / 2, x1 = r.size.x / 2, y0 = -r.size.y / 2, y1 = r.size.y / 2;
+      auto& b = node_->begin();
+      wire::Pose3d pose(float((x0 + x1) / 2), float((y0 + y1) / 2), 0, 0, 0, 0);
+      wire::Vec3 size(float(x1 - x0), float(y1 - y0), float(r.look.height));
+      auto body = wire::CreatePosition2dGeometry(b, &pose, &size);
+      return node_->ack(token, wire::Body::Position2dGeometry, body.Union());
+    }
+    case Sub::MotorPower: {
+      const wire::Switch* sw = req.body_as_Switch();
+      if (sw == nullptr) return node_->nack(token, ErrorCode::BadArgument, "motor power needs a Switch body");
+      d.motors_on = sw->on();
+      if (!d.motors_on) world_.command(d.robot, Command::velocity(0, 0, 0));
+      return node_->ack(token);
+    }
+    case Sub::SetOdometry: {
+      const wire::Position2dSetOdom* set = req.body_as_Position2dSetOdom();
+      if (set == nullptr || set->pose() == nullptr)
+        return node_->nack(token, ErrorCode::BadArgument, "needs a pose");
+      world_.set_odometry(d.robot, {set->pose()->x(), set->pose()->y(), set->pose()->a()});
+      return node_->ack(token);
+    }
+    case Sub::ResetOdometry:
+      world_.set_odometry(d.robot, {});
+      return node_->ack(token);
+  }
+  Driver::on_request(d.id, req, token);
+}
+
+void SimServer::ranger_request(const Device& d, const wire::Message& req, RequestToken token) {
+  using Sub = wire::RangerReqSub;
+  const RangerDesc& rd = world_.ranger_desc(d.index);
+  double range_min = 1e9, range_max = 0;
+  for (const TransducerDesc& t : rd.transducers) {
+    range_min = std::min(range_min, t.range_min);
+    range_max = std::max(range_max, t.range_max);
+  }
+  if (rd.transducers.empty()) range_min = 0;
+  switch (Sub(req.header()->subtype())) {
+    case Sub::Geometry: {
+      std::vector<wire::Pose3d> elements;
+      for (const TransducerDesc& t : rd.transducers) {
+        elements.emplace_back(float(t.pose.x), float(t.pose.y), 0.0f, 0.0f, 0.0f, float(t.pose.a));
+      }
+      auto& b = node_->begin();
+      wire::Pose3d pose(float(rd.pose.x), float(rd.pose.y), 0, 0, 0, float(rd.pose.a));
+      wire::Vec3 size(float(rd.size.x), float(rd.size.y), 0);
+      auto body = wire::CreateRangerGeometry(b, &pose, &size, b.CreateVectorOfStructs(elements));
+      return node_->ack(token, wire::Body::RangerGeometry, body.Union());
+    }
+    case Sub::GetConfig: {
+      float min_angle = 0, max_angle = 0, res = 0;
+      if (rd.transducers.size() == 1 && rd.transducers[0].samples > 1) {
+        const TransducerDesc& t = rd.transducers[0];
+        min_angle = float(t.pose.a - t.fov / 2);
+        max_angle = float(t.pose.a + t.fov / 2);
+        res = float(t.fov / (t.samples - 1));
+      }
+      auto& b = node_->begin();
+      auto body = wire::CreateRangerConfig(b, min_angle, max_angle, res, float(range_min), float(range_max),
+                                           0.0f, float(1.0 / world_.interval()));
+      return node_->ack(token, wire::Body::RangerConfig, body.Union());
+    }
+    case Sub::SetConfig:
+      return node_->nack(token, ErrorCode::Unsupported,
+                         "a simulated ranger's configuration is the world file's");
+    case Sub::Power:
+      return node_->ack(token);
+  }
+  Driver::on_request(d.id, req, token);
+}
+
+void SimServer::ack_clock(RequestToken token) {
+  auto& b = node_->begin();
+  auto body = wire::CreateSimClock(b, uint64_t(std::llround(world_.time() * 1e6)), world_.steps(),
+                                   control_.paused, float(control_.speed), float(control_.real_time_factor));
+  node_->ack(token, wire::Body::SimClock, body.Union());
+}
+
+void SimServer::simulation_request(const wire::Message& req, RequestToken token) {
+  using Sub = wire::SimulationReqSub;
+  switch (Sub(req.header()->subtype())) {
+    case Sub::Pause:
+      control_.paused = true;
+      return ack_clock(token);
+    case Sub::Resume:
+      control_.paused = false;
+      return ack_clock(token);
+    case Sub::GetClock:
+      return ack_clock(token);
+    case Sub::Step: {
+      const wire::SimStep* s = req.body_as_SimStep();
+      const uint32_t n = s ? s->steps() : 1;
+      if (n > 1000000) return node_->nack(token, ErrorCode::BadArgument, "at most 1000000 steps at once");
+      if (control_.step) control_.step(n);
+      return ack_clock(token);
+    }
+    case Sub::SetSpeed: {
+      const wire::SimSpeed* s = req.body_as_SimSpeed();
+      if (s == nullptr || !(s->speed() >= 0) || !std::isfinite(s->speed())) {
+        return node_->nack(token, ErrorCode::BadArgument, "speed must be >= 0 (0: as fast as possible)");
+      }
+      control_.speed = s->speed();
+      return ack_clock(token);
+    }
+    case Sub::GetPose:
+    case Sub::SetPose: {
+      const bool set = Sub(req.header()->subtype()) == Sub::SetPose;
+      const flatbuffers::String* name =
+          set ? (req.body_as_SimPose() ? req.body_as_SimPose()->name() : nullptr)
+              : (req.body_as_SimModel() ? req.body_as_SimModel()->name() : nullptr);
+      if (name == nullptr) return node_->nack(token, ErrorCode::BadArgument, "needs a model name");
+      const std::string model = name->str();
+      if (auto robot = world_.find_robot(model)) {
+        if (set) {
+          const wire::Pose2d* p = req.body_as_SimPose()->pose();
+          if (p == nullptr) return node_->nack(token, ErrorCode::BadArgument, "needs a pose");
+          world_.set_pose(*robot, {p->x(), p->y(), p->a()});
+          world_.refresh_sensors();
+          return node_->ack(token);
+        }
+        const Pose& p = world_.state(*robot).pose;
+        auto& b = node_->begin();
+        wire::Pose2d pose(float(p.x), float(p.y), float(p.a));
+        auto body = wire::CreateSimPose(b, b.CreateString(model), &pose);
+        return node_->ack(token, wire::Body::SimPose, body.Union());
+      }
+      for (const StaticDesc& s : world_.desc().statics) {
+        if (s.name != model || s.name.empty()) continue;
+        if (set)
+          return node_->nack(token, ErrorCode::BadArgument,
+                             "'" + model + "' is a static model; it cannot move");
+        auto& b = node_->begin();
+        wire::Pose2d pose(float(s.pose.x), float(s.pose.y), float(s.pose.a));
+        auto body = wire::CreateSimPose(b, b.CreateString(model), &pose);
+        return node_->ack(token, wire::Body::SimPose, body.Union());
+      }
+      return node_->nack(token, ErrorCode::BadArgument, "no model named '" + model + "'");
+    }
+    case Sub::Reset:
+      if (control_.reset) control_.reset();
+      return ack_clock(token);
+  }
+  node_->nack(token, ErrorCode::Unsupported, "unknown simulation request");
+}
+
+}  // namespace troupe::sim

@@ -1,0 +1,86 @@
+// Serves a simulated world over the wire: one runtime Driver that provides
+// every robot's devices (robot i, named by its world-file name:
+// position2d:0, ranger:k, blobfinder:k, fiducial:k, bumper:k, power:0) and
+// the simulation:0 device. Commands go to the robots; after every step the
+// data of each device that someone reads is published, and a sensor is
+// computed only while it is read (or a controller wants it).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "host-sim/sim/world.h"
+#include "runtime/driver.h"
+#include "runtime/node.h"
+
+namespace troupe::sim {
+
+/// What the simulation device changes in the running loop (owned by the
+/// runner; the server only edits it).
+struct SimControl {
+  bool paused = false;
+  /// Multiple of real time; 0: as fast as possible.
+  double speed = 1;
+  /// Measured simulated seconds per wall second (for SimClock).
+  double real_time_factor = 0;
+  /// Runs n steps now (the runner's step: controllers, world, publishing,
+  /// logs), for the Step request.
+  std::function<void(uint32_t)> step;
+  /// Every model back to its start (the runner also resets controllers' view).
+  std::function<void()> reset;
+};
+
+class SimServer final : public Driver {
+ public:
+  /// `only`: serve just this robot, as robot 0 (--port-per-robot); -1: all.
+  SimServer(World& world, SimControl& control, int only = -1);
+
+  bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
+  void on_command(DeviceId device, const wire::Message& command) override;
+  void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
+
+  /// Sets every sensor's wanted flag: read by a client, or asked for by a
+  /// controller (the flags set before the server started). True when a
+  /// sensor that was not computed is now wanted.
+  bool sync_wanted();
+  /// Publishes the latest data of every device someone reads.
+  void publish();
+
+  size_t device_count() const { return devices_.size(); }
+
+ private:
+  enum class Kind : uint8_t { Position, Ranger, Blobfinder, Fiducial, Bumper, Power, Simulation };
+  struct Device {
+    DeviceId id = kNoDevice;
+    Kind kind;
+    RobotId robot = 0;
+    uint32_t index = 0;     // world-wide sensor index
+    bool pinned = false;    // a controller wants it whether read or not
+    bool motors_on = true;  // position2d only
+  };
+
+  void add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface, uint16_t local);
+  const Device* find(DeviceId id) const;
+  void publish_position(const Device& d);
+  void publish_ranger(const Device& d);
+  void publish_blobs(const Device& d);
+  void publish_fiducials(const Device& d);
+  void publish_bumper(const Device& d);
+  void publish_power(const Device& d);
+  void publish_clock(const Device& d);
+  void ack_clock(RequestToken token);
+  void simulation_request(const wire::Message& request, RequestToken token);
+  void position_request(Device& d, const wire::Message& request, RequestToken token);
+  void ranger_request(const Device& d, const wire::Message& request, RequestToken token);
+
+  World& world_;
+  SimControl& control_;
+  int only_;
+  std::vector<Device> devices_;
+  DeviceId first_ = kNoDevice;
+  std::vector<uint16_t> scratch_ranges_;
+};
+
+}  // namespace troupe::sim

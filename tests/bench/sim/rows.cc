@@ -1,0 +1,304 @@
+#include "tests/bench/sim/rows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "host-sim/sim/controller_host.h"
+#include "host-sim/sim/static_map.h"
+#include "host-sim/sim/world.h"
+#include "tests/bench/sim/arena.h"
+
+namespace troupe::bench {
+namespace {
+
+using sim::ControllerHost;
+using sim::World;
+
+double cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + ts.tv_nsec * 1e-9;
+}
+double wall_s() {
+  return sim::now_ns() * 1e-9;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+std::string shared(const std::string& file) {
+  return std::string(TROUPE_SHARED_DATA) + "/stage/" + file;
+}
+
+bool have_shared(const char* row) {
+  if (std::filesystem::exists(shared("simple.world"))) return true;
+  std::printf("%s: skipped, no Stage data at %s\n", row, shared("").c_str());
+  return false;
+}
+
+std::unique_ptr<World> load(const std::string& path, ControllerHost& host) {
+  world::Diagnostics d;
+  auto w = World::load(path, 1, d);
+  ControllerHost::Options o;
+  o.search_path = {TROUPE_CONTROLLER_DIR};
+  if (!w || !host.load(*w, o, d)) {
+    std::printf("cannot load %s:\n%s", path.c_str(), d.str().c_str());
+    return nullptr;
+  }
+  return w;
+}
+
+void want_all_rangers(World& w) {
+  for (sim::RobotId i = 0; i < w.robot_count(); ++i) {
+    const sim::IndexRange r = w.robot(i).rangers;
+    for (uint32_t k = r.first; k < r.first + r.count; ++k) w.set_wanted({sim::SensorKind::Ranger, k}, true);
+  }
+}
+
+// Runs `repeats` chunks of `steps`; the medians go into `out`, and one more
+// chunk with per-cell ray casting gives the same-run baseline.
+void run_chunks(World& w, ControllerHost& host, int steps, const Settings& s, Summary& out) {
+  for (int i = 0; i < 5; ++i) {
+    host.update(w);
+    w.step();
+  }
+  w.profile().reset();
+  std::vector<double> cpu, wall;
+  for (int r = 0; r < s.repeats; ++r) {
+    const double c0 = cpu_s(), w0 = wall_s(), t0 = w.time();
+    for (int i = 0; i < steps; ++i) {
+      host.update(w);
+      w.step();
+    }
+    cpu.push_back((w.time() - t0) / (cpu_s() - c0));
+    wall.push_back((w.time() - t0) / (wall_s() - w0));
+  }
+  std::printf("%s", w.profile().table().c_str());
+  out.rtf = median(cpu);
+  out.rtf_wall = median(wall);
+  if (s.baseline) {
+    w.set_raycast_per_cell(true);
+    const double c0 = cpu_s(), t0 = w.time();
+    for (int i = 0; i < steps; ++i) {
+      host.update(w);
+      w.step();
+    }
+    out.baseline_rtf = (w.time() - t0) / (cpu_s() - c0);
+    w.set_raycast_per_cell(false);
+  }
+}
+
+// The cave of simple.world with `n` Pioneers (laser and sonars) wandering.
+std::string cave_world(const Scratch& dir, int n) {
+  world::GrayImage cave;
+  std::string err;
+  world::read_png(shared("bitmaps/cave.png"), cave, err);
+  std::vector<sim::Pose> poses = place(cave, 16.0 / 500, size_t(n), 0.35, 0.9, 11);
+  std::string text;
+  for (const char* inc : {"pioneer.inc", "map.inc", "sick.inc"}) text += "include \"" + shared(inc) + "\"\n";
+  text += "resolution 0.02\ninterval_sim 100\n";
+  text += "floorplan ( name \"cave\" size [16 16 0.8] pose [0 0 0 0] bitmap \"" + shared("bitmaps/cave.png") +
+          "\" )\n";
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char line[256];
+    std::snprintf(
+        line, sizeof line,
+        "pioneer2dx ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] sicklaser ( pose [ 0 0 0 0 ] ) ctrl \"wander\" "
+        "localization \"gps\" )\n",
+        i, poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
+    text += line;
+  }
+  return dir.write("cave.world", text);
+}
+
+}  // namespace
+
+bool row_simple(const Settings& s, Summary& out) {
+  if (!have_shared("simple")) return false;
+  out = {"simple.world", "2 Pioneers, 180-beam 8 m lasers, wander", 0, 0, 0, 440, 5000};
+  ControllerHost host;
+  auto w = load(shared("simple.world"), host);
+  if (!w) return false;
+  std::printf("== simple.world: %zu robots, %zu controllers\n", w->robot_count(), host.size());
+  run_chunks(*w, host, int(10000 * s.scale), s, out);
+  return true;
+}
+
+bool row_crowd(const Settings& s, Summary& out) {
+  out = {"crowd 1000", "1,000 robots, 12-beam 2 m rangers, 140 x 60 m at 0.02 m", 0, 0, 0, 3, 30};
+  Scratch dir;
+  const double t0 = wall_s();
+  world::GrayImage map = office(140, 60, 0.02, 7);
+  std::string err;
+  if (!world::write_png(dir.path("office.png"), map, err)) {
+    std::printf("crowd: %s\n", err.c_str());
+    return false;
+  }
+  std::vector<sim::Pose> poses = place(map, 0.02, 1000, 0.3, 0.8, 3);
+  std::string text = "resolution 0.02\ninterval_sim 100\n" + ring_robot_define();
+  text += "model ( name \"office\" size [140 60 1] color \"gray30\" bitmap \"office.png\" )\n";
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "smallbot ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] ctrl \"wander avoid=0.4\" )\n", i,
+                  poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
+    text += line;
+  }
+  map = {};
+  const double t1 = wall_s();
+  ControllerHost host;
+  auto w = load(dir.write("crowd.world", text), host);
+  if (!w) return false;
+  std::printf("== crowd: %zu robots; map generated in %.1f s, world loaded in %.1f s; engine holds %.1f MB\n",
+              w->robot_count(), t1 - t0, wall_s() - t1, w->memory_bytes() / 1e6);
+  run_chunks(*w, host, int(200 * s.scale), s, out);
+  return true;
+}
+
+bool row_cave(const Settings& s, Summary& out) {
+  if (!have_shared("cave")) return false;
+  out = {"cave 100", "100 Pioneers, 180-beam 8 m laser + 16 sonars, cave", 0, 0, 0, 2, 20};
+  Scratch dir;
+  ControllerHost host;
+  auto w = load(cave_world(dir, 100), host);
+  if (!w) return false;
+  want_all_rangers(*w);  // the sonars too, as a client reading them would
+  std::printf("== cave: %zu robots\n", w->robot_count());
+  run_chunks(*w, host, int(100 * s.scale), s, out);
+  return true;
+}
+
+bool row_scale(const Settings& s, Summary& out) {
+  out = {"scale 10000", "10,000 robots, 12-beam rangers (0.05 m map)", 0, 0, 0, 0, 3};
+  std::printf("== scaling: 8.4 m^2 of office per robot, 0.05 m cells, wander\n");
+  std::printf("%8s %12s %8s %12s %14s %10s\n", "robots", "map cells", "steps", "sim s/CPU s", "us/robot-step",
+              "vs 100");
+  double first = 0, worst = 1, best = 1;
+  for (int n : {100, 300, 1000, 3000, 10000}) {
+    const double area = 8.4 * n, width = std::sqrt(area * 7 / 3), height = area / width;
+    sim::WorldDesc d;
+    d.resolution = 0.05;
+    sim::StaticDesc floor;
+    floor.name = "office";
+    floor.size = {width, height};
+    floor.bitmap = std::make_shared<sim::BitmapDesc>();
+    auto img = std::make_shared<world::GrayImage>(office(width, height, 0.05, 5));
+    std::vector<sim::Pose> poses = place(*img, 0.05, size_t(n), 0.3, 0.8, 9);
+    floor.bitmap->image = img;
+    d.statics.push_back(floor);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      std::string name = "r";  // appended: GCC 12 warns falsely (-Wrestrict) on "r" + std::string
+      name.append(std::to_string(i));
+      d.robots.push_back(ring_robot(name, poses[i], "wander avoid=0.4"));
+    }
+    World w(d, sim::Random(1));
+    ControllerHost host;
+    world::Diagnostics diags;
+    ControllerHost::Options o;
+    o.search_path = {TROUPE_CONTROLLER_DIR};
+    if (!host.load(w, o, diags)) {
+      std::printf("%s", diags.str().c_str());
+      return false;
+    }
+    Settings one = s;
+    one.baseline = false;
+    one.repeats = 3;
+    Summary r;
+    const int steps = std::max(10, int(40000.0 / n * s.scale));
+    std::printf("-- %d robots\n", n);
+    run_chunks(w, host, steps, one, r);
+    const double us = 1e6 * w.interval() / r.rtf / double(w.robot_count());
+    if (first == 0) first = us;
+    worst = std::max(worst, us / first);
+    best = std::min(best, us / first);
+    std::printf("%8zu %12lld %8d %12.1f %14.2f %9.2fx\n", w.robot_count(),
+                static_cast<long long>(w.map().width()) * w.map().height(), steps * 3, r.rtf, us, us / first);
+    if (n == 10000) {
+      out.rtf = r.rtf;
+      out.rtf_wall = r.rtf_wall;
+    }
+  }
+  std::printf("time per robot-step from 100 to 10,000 robots: within %.2fx (target 1.5x)\n", worst / best);
+  return true;
+}
+
+bool row_rays(const Settings& s, Summary& out) {
+  if (!have_shared("rays")) return false;
+  out = {"rays", "cave, 100 robots present", 0, 0, 0, 0, 0};
+  Scratch dir;
+  ControllerHost host;
+  auto w = load(cave_world(dir, 100), host);
+  if (!w) return false;
+  for (int i = 0; i < 20; ++i) {
+    host.update(*w);
+    w->step();
+  }
+  // (a) The static grid alone: a laser's 180 beams from each robot, turned
+  // by a random angle, 8 m.
+  const sim::StaticMap& map = w->map();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> ang(-sim::kPi, sim::kPi);
+  std::vector<sim::RayQuery> rays;
+  for (int round = 0; round < int(20 * s.scale) + 1; ++round) {
+    for (sim::RobotId i = 0; i < w->robot_count(); ++i) {
+      const sim::Pose& p = w->state(i).pose;
+      const double a0 = ang(rng);
+      for (int b = 0; b < 180; ++b) {
+        const double a = a0 + b * sim::kPi / 179;
+        rays.push_back({{p.x, p.y}, {std::cos(a), std::sin(a)}, 8.0f});
+      }
+    }
+  }
+  std::vector<float> r1(rays.size()), r2(rays.size());
+  std::vector<double> fast, slow;
+  for (int rep = 0; rep < s.repeats; ++rep) {
+    double c0 = cpu_s();
+    map.cast_batch(rays, sim::StaticMap::kRangerMask, r1.data());
+    fast.push_back(rays.size() / (cpu_s() - c0));
+    c0 = cpu_s();
+    for (size_t i = 0; i < rays.size(); ++i) r2[i] = map.cast_per_cell(rays[i].origin, rays[i].dir, 8.0f);
+    slow.push_back(rays.size() / (cpu_s() - c0));
+  }
+  size_t same = 0;
+  for (size_t i = 0; i < rays.size(); ++i) same += std::fabs(r1[i] - r2[i]) < 1e-4;
+  std::printf("== rays: %zu rays from 100 robots' poses in the cave, 8 m\n", rays.size());
+  std::printf("%-34s %12s %10s\n", "", "Mrays/s", "vs per-cell");
+  std::printf("%-34s %12.2f %9.2fx\n", "static grid, per-cell walk", median(slow) * 1e-6, 1.0);
+  std::printf("%-34s %12.2f %9.2fx\n", "static grid, distance-field march", median(fast) * 1e-6,
+              median(fast) / median(slow));
+  std::printf("same range as the per-cell walk: %.4f%% of rays\n", 100.0 * same / rays.size());
+  // (b) Whole ranger updates with the robots in the beams: lasers and sonars.
+  want_all_rangers(*w);
+  size_t beams = 0;
+  for (sim::RobotId i = 0; i < w->robot_count(); ++i) {
+    const sim::IndexRange r = w->robot(i).rangers;
+    for (uint32_t k = r.first; k < r.first + r.count; ++k) beams += w->ranger(k).ranges.size();
+  }
+  std::vector<double> full, full_slow;
+  for (int rep = 0; rep < s.repeats; ++rep) {
+    const int calls = int(50 * s.scale) + 1;
+    double c0 = cpu_s();
+    for (int c = 0; c < calls; ++c) w->refresh_sensors();
+    full.push_back(double(beams) * calls / (cpu_s() - c0));
+    w->set_raycast_per_cell(true);
+    c0 = cpu_s();
+    for (int c = 0; c < calls; ++c) w->refresh_sensors();
+    full_slow.push_back(double(beams) * calls / (cpu_s() - c0));
+    w->set_raycast_per_cell(false);
+  }
+  std::printf("%-34s %12.2f %9.2fx\n", "rangers with robots, per-cell walk", median(full_slow) * 1e-6, 1.0);
+  std::printf("%-34s %12.2f %9.2fx\n", "rangers with robots, march", median(full) * 1e-6,
+              median(full) / median(full_slow));
+  out.rtf = median(fast) * 1e-6;
+  out.baseline_rtf = median(slow) * 1e-6;
+  return true;
+}
+
+}  // namespace troupe::bench

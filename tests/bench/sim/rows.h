@@ -1,0 +1,32 @@
+// The rows of the simulator's performance table, one function each. Every
+// row prints its own detail and returns its summary line.
+#pragma once
+
+#include <string>
+
+namespace troupe::bench {
+
+struct Settings {
+  int repeats = 5;       // timed chunks per row; medians are reported
+  double scale = 1.0;    // multiplies the steps per chunk (0.1 for a quick look)
+  bool baseline = true;  // also time one chunk with per-cell ray casting
+};
+
+struct Summary {
+  std::string row;
+  std::string what;
+  double rtf = 0;           // median simulated seconds per CPU second
+  double rtf_wall = 0;      // the same per wall second
+  double baseline_rtf = 0;  // per-cell ray casting, same world, same run
+  double stage = 0;         // Stage 4.3's figure for this row (the issue's)
+  double target = 0;        // the target
+};
+
+/// Each returns false when it cannot run (missing data), after saying why.
+bool row_simple(const Settings& s, Summary& out);
+bool row_crowd(const Settings& s, Summary& out);
+bool row_cave(const Settings& s, Summary& out);
+bool row_scale(const Settings& s, Summary& out);
+bool row_rays(const Settings& s, Summary& out);
+
+}  // namespace troupe::bench

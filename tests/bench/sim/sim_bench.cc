@@ -1,0 +1,118 @@
+// sim_bench: the troupe-sim performance table. Each row runs in a child
+// process of its own, so its peak memory is its own. Speeds are simulated
+// seconds per CPU second of the one thread that runs the simulation (the
+// machine may be shared; CPU time does not count time spent waiting for the
+// processor), medians over repeats, with wall-clock figures beside them and
+// the same world timed with per-cell ray casting as an in-run baseline.
+//
+//   sim_bench [simple] [crowd] [cave] [scale] [rays] [--repeats N] [--quick]
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tests/bench/sim/rows.h"
+
+namespace {
+
+using troupe::bench::Settings;
+using troupe::bench::Summary;
+
+struct Row {
+  const char* name;
+  bool (*run)(const Settings&, Summary&);
+};
+
+constexpr Row kRows[] = {
+    {"simple", troupe::bench::row_simple}, {"crowd", troupe::bench::row_crowd},
+    {"cave", troupe::bench::row_cave},     {"scale", troupe::bench::row_scale},
+    {"rays", troupe::bench::row_rays},
+};
+
+// The child's summary travels back through a pipe as one text line.
+void send(int fd, const Summary& s, long peak_kb) {
+  char line[512];
+  int n = std::snprintf(line, sizeof line, "%s\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%ld\n", s.row.c_str(),
+                        s.what.c_str(), s.rtf, s.rtf_wall, s.baseline_rtf, s.stage, s.target, peak_kb);
+  if (n > 0 && write(fd, line, size_t(n)) < 0) std::perror("write");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Settings settings;
+  std::vector<const Row*> rows;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--repeats" && i + 1 < argc) {
+      settings.repeats = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--quick") {
+      settings.scale = 0.1;
+      settings.repeats = 3;
+    } else {
+      const Row* found = nullptr;
+      for (const Row& r : kRows) {
+        if (a == r.name) found = &r;
+      }
+      if (!found) {
+        std::fprintf(stderr,
+                     "usage: sim_bench [simple] [crowd] [cave] [scale] [rays] [--repeats N] [--quick]\n");
+        return 2;
+      }
+      rows.push_back(found);
+    }
+  }
+  if (rows.empty()) {
+    for (const Row& r : kRows) rows.push_back(&r);
+  }
+  std::vector<std::string> lines;
+  for (const Row* row : rows) {
+    int fds[2];
+    if (pipe(fds) != 0) return 1;
+    std::fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+      close(fds[0]);
+      Summary s;
+      bool ok = row->run(settings, s);
+      std::fflush(stdout);
+      rusage ru{};
+      getrusage(RUSAGE_SELF, &ru);
+      if (ok) send(fds[1], s, ru.ru_maxrss);
+      _exit(ok ? 0 : 3);
+    }
+    close(fds[1]);
+    std::string text;
+    char buf[512];
+    ssize_t n;
+    while ((n = read(fds[0], buf, sizeof buf)) > 0) text.append(buf, size_t(n));
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!text.empty()) lines.push_back(text);
+  }
+  std::printf("\n%-13s %-55s %11s %11s %9s %8s %8s %8s %9s\n", "row", "work", "sim s/CPU s", "sim s/wall",
+              "per-cell", "x cells", "Stage", "x Stage", "peak MB");
+  for (const std::string& l : lines) {
+    char row[64], what[256];
+    double rtf, wall, base, stage, target;
+    long kb;
+    if (std::sscanf(l.c_str(), "%63[^\t]\t%255[^\t]\t%lf\t%lf\t%lf\t%lf\t%lf\t%ld", row, what, &rtf, &wall,
+                    &base, &stage, &target, &kb) != 8) {
+      continue;
+    }
+    if (std::string(row) == "rays") {
+      std::printf("%-13s %-55s %9.2f M %11s %7.2f M %7.2fx %8s %8s %9.1f   (rays per CPU second)\n", row,
+                  what, rtf, "", base, base > 0 ? rtf / base : 0, "", "", kb / 1024.0);
+      continue;
+    }
+    std::printf("%-13s %-55s %11.0f %11.0f %9.0f %7.2fx %8.0f %7.1fx %9.1f   target %.0f\n", row, what, rtf,
+                wall, base, base > 0 ? rtf / base : 0, stage, stage > 0 ? rtf / stage : 0, kb / 1024.0,
+                target);
+  }
+  return 0;
+}

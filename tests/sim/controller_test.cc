@@ -1,0 +1,183 @@
+// In-process controllers: loaded from the world file's ctrl names (dlopen),
+// missing ones reported by name, broken ones stopped without stopping the
+// rest; the example controllers do what they say.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "host-sim/sim/controller_host.h"
+#include "tests/sim/scenes.h"
+#include "tests/sim/temp_dir.h"
+
+namespace troupe::sim {
+namespace {
+
+ControllerHost::Options options(bool ignore_missing = false) {
+  ControllerHost::Options o;
+  o.search_path = {TROUPE_CONTROLLER_DIR};
+  o.ignore_missing = ignore_missing;
+  return o;
+}
+
+std::unique_ptr<World> load(troupe::test::TempDir& dir, const std::string& text, world::Diagnostics& d) {
+  return World::load(dir.write("c.world", text), 9, d);
+}
+
+const char* kArena = R"(
+resolution 0.02
+define side block ( points 4 z [0 1] )
+model ( name "walls" size [8 8] color "gray30"
+  side ( point[0] [0 0] point[1] [8 0] point[2] [8 0.1] point[3] [0 0.1] )
+  side ( point[0] [0 7.9] point[1] [8 7.9] point[2] [8 8] point[3] [0 8] )
+  side ( point[0] [0 0] point[1] [0.1 0] point[2] [0.1 8] point[3] [0 8] )
+  side ( point[0] [7.9 0] point[1] [8 0] point[2] [8 8] point[3] [7.9 8] ) )
+define bot position ( size [0.3 0.3] fiducial_return 1
+  ranger ( sensor ( range [0 3] fov 270 samples 28 ) )
+  fiducial ( range_max 10 fov 360 ) )
+)";
+
+TEST(Controllers, WanderExploresWithoutGettingStuck) {
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  auto w =
+      load(dir, std::string(kArena) + "bot ( name \"a\" pose [-2 -2 0 30] ctrl \"wander speed=0.5\" )\n", d);
+  ASSERT_TRUE(w) << d.str();
+  ControllerHost host;
+  ASSERT_TRUE(host.load(*w, options(), d)) << d.str();
+  ASSERT_EQ(host.size(), 1u);
+  double travelled = 0, minx = 9, maxx = -9, miny = 9, maxy = -9;
+  int stalled = 0;
+  Pose last = w->state(0).pose;
+  for (int s = 0; s < 1500; ++s) {
+    host.update(*w);
+    w->step();
+    const Pose& p = w->state(0).pose;
+    travelled += std::hypot(p.x - last.x, p.y - last.y);
+    last = p;
+    stalled += w->state(0).stalled;
+    minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y),
+    maxy = std::max(maxy, p.y);
+  }
+  EXPECT_GT(travelled, 30.0);   // 150 s at up to 0.5 m/s
+  EXPECT_LT(stalled, 15);       // it avoids the walls rather than hits them
+  EXPECT_GT(maxx - minx, 3.0);  // and goes places
+  EXPECT_GT(maxy - miny, 3.0);
+  EXPECT_TRUE(host.take_errors().empty());
+}
+
+double mean_pair_distance(const World& w) {
+  double sum = 0;
+  int n = 0;
+  for (RobotId i = 0; i < w.robot_count(); ++i) {
+    for (RobotId j = i + 1; j < w.robot_count(); ++j) {
+      sum += std::hypot(w.state(i).pose.x - w.state(j).pose.x, w.state(i).pose.y - w.state(j).pose.y);
+      ++n;
+    }
+  }
+  return sum / n;
+}
+
+TEST(Controllers, SwarmAggregatesAndDisperses) {
+  for (const char* mode : {"aggregate", "disperse"}) {
+    troupe::test::TempDir dir;
+    std::string text = kArena;
+    for (int i = 0; i < 8; ++i) {
+      // Aggregators start spread out, dispersers bunched up.
+      const double spread = std::string(mode) == "aggregate" ? 2.5 : 0.7;
+      text += "bot ( name \"b" + std::to_string(i) + "\" pose [" +
+              std::to_string(spread * std::cos(i * 0.785)) + " " +
+              std::to_string(spread * std::sin(i * 0.785)) + " 0 " + std::to_string(i * 45) +
+              "] ctrl \"swarm " + mode + " spacing=1.2\" )\n";
+    }
+    world::Diagnostics d;
+    auto w = load(dir, text, d);
+    ASSERT_TRUE(w) << d.str();
+    ControllerHost host;
+    ASSERT_TRUE(host.load(*w, options(), d)) << d.str();
+    const double before = mean_pair_distance(*w);
+    for (int s = 0; s < 600; ++s) {
+      host.update(*w);
+      w->step();
+    }
+    const double after = mean_pair_distance(*w);
+    if (std::string(mode) == "aggregate") {
+      EXPECT_LT(after, 0.75 * before) << mode;
+    } else {
+      EXPECT_GT(after, 1.5 * before) << mode;
+    }
+  }
+}
+
+TEST(Controllers, MissingControllerIsAnErrorNamingIt) {
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  auto w = load(dir, std::string(kArena) + "\nbot ( name \"lost\" ctrl \"no_such_brain fast\" )\n", d);
+  ASSERT_TRUE(w) << d.str();
+  ControllerHost host;
+  EXPECT_FALSE(host.load(*w, options(), d));
+  ASSERT_TRUE(d.has_errors());
+  const world::Diagnostic& e = d.items().back();
+  EXPECT_NE(e.message.find("controller 'no_such_brain'"), std::string::npos) << e.str();
+  EXPECT_NE(e.message.find("'lost'"), std::string::npos);
+  EXPECT_NE(e.message.find("--ignore-missing-ctrl"), std::string::npos);
+  EXPECT_EQ(e.loc.line, 13);
+
+  world::Diagnostics d2;
+  ControllerHost lenient;
+  EXPECT_TRUE(lenient.load(*w, options(true), d2));
+  EXPECT_FALSE(d2.has_errors());
+  EXPECT_TRUE(d2.contains("stays idle"));
+  EXPECT_EQ(lenient.size(), 0u);
+}
+
+TEST(Controllers, BadArgumentsAndUnsuitableRobotsAreErrors) {
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  auto w = load(
+      dir, std::string(kArena) + "bot ( ctrl \"wander speed=fast\" )\nposition ( ctrl \"wander\" )\n", d);
+  ASSERT_TRUE(w) << d.str();
+  ControllerHost host;
+  EXPECT_FALSE(host.load(*w, options(), d));
+  EXPECT_TRUE(d.contains("refused its arguments \"speed=fast\"")) << d.str();
+  EXPECT_TRUE(d.contains("wander needs a ranger")) << d.str();
+}
+
+class Throws final : public Controller {
+ public:
+  bool init(RobotHandle&, std::string&) override { return true; }
+  void update(RobotHandle& robot) override {
+    robot.command(Command::velocity(1, 0, 0));
+    if (robot.time() >= 1.0) throw std::runtime_error("lost my marbles");
+  }
+};
+
+class Drives final : public Controller {
+ public:
+  bool init(RobotHandle&, std::string&) override { return true; }
+  void update(RobotHandle& robot) override { robot.command(Command::velocity(0.2, 0, 0)); }
+};
+
+TEST(Controllers, AThrowingControllerStopsOnlyItsRobot) {
+  WorldDesc desc = test::room(10, 10);
+  desc.robots.push_back(test::robot("bad", {0, 0, 0}));
+  desc.robots.push_back(test::robot("good", {0, 3, 0}));
+  World w(desc, Random(1));
+  ControllerHost host;
+  std::string err;
+  ASSERT_TRUE(host.attach(w, 0, std::make_unique<Throws>(), err));
+  ASSERT_TRUE(host.attach(w, 1, std::make_unique<Drives>(), err));
+  for (int s = 0; s < 30; ++s) {
+    host.update(w);
+    w.step();
+  }
+  auto errors = host.take_errors();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("lost my marbles"), std::string::npos);
+  EXPECT_NE(errors[0].find("'bad'"), std::string::npos);
+  EXPECT_EQ(w.state(0).velocity.x, 0);
+  EXPECT_NEAR(w.state(1).pose.x, 0.6, 1e-9);
+}
+
+}  // namespace
+}  // namespace troupe::sim
