@@ -26,6 +26,7 @@ namespace {
 using Bytes = std::vector<uint8_t>;
 
 const std::string kExample = std::string(TROUPE_SOURCE_DIR) + "/examples/nodes/kinematic.json";
+const std::string kRoomWorld = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/room.world";
 
 /// What a client saw of one Data message, and what the log holds: the
 /// device, the sender's timestamp and the body's values.
@@ -84,6 +85,15 @@ std::vector<uint64_t> data_offsets(const std::string& path) {
     if (r.message->header()->kind() == wire::Kind::Data) out.push_back(r.offset);
   }
   return out;
+}
+
+/// Each device's frames arrive in order; across devices, frames due at the
+/// same moment may interleave differently, so logs and replays are compared
+/// per device.
+std::map<uint64_t, std::vector<Sample>> by_device(const std::vector<Sample>& samples) {
+  std::map<uint64_t, std::vector<Sample>> m;
+  for (const Sample& s : samples) m[s.key].push_back(s);
+  return m;
 }
 
 Bytes read_file(const std::string& path) {
@@ -192,14 +202,32 @@ TEST_F(RecordReplay, TwoDevicesOfRoomNodeIncludingLaserScans) {
   Outcome ls_info = troupe({"play", log, "--info"});
   EXPECT_NE(ls_info.out.find("device    ranger:0\troom-laser"), std::string::npos) << ls_info.out;
   std::vector<Sample> seen = play(log, {"position2d:0", "ranger:0"}, {"--speed", "2"});
-  // Each device's frames arrive in order; across devices, frames due at the
-  // same moment may interleave differently, so compare per device.
-  auto by_device = [](const std::vector<Sample>& v) {
-    std::map<uint64_t, std::vector<Sample>> m;
-    for (const Sample& s : v) m[s.key].push_back(s);
-    return m;
-  };
   EXPECT_EQ(by_device(seen), by_device(recorded));
+}
+
+TEST_F(RecordReplay, ARobotOfTroupeSimPlaysBackUnderItsRobotName) {
+  uint16_t port = free_port();
+  Process sim({bin("wire/cli/troupe-sim"), kRoomWorld, "--port", std::to_string(port), "--seed", "3"});
+  ASSERT_TRUE(sim.wait_listening(port)) << sim.err();
+  ASSERT_EQ(troupe({"cmd", host(port), "r0/position2d:0", "vel", "0.3", "0", "0.4"}).rc, 0);
+  std::string log = file("sim.trl");
+  Outcome rec = troupe({"record", host(port), "r0/position2d:0", "r0/ranger:0", "-o", log, "--count", "30"});
+  ASSERT_EQ(rec.rc, 0) << rec.err;
+  EXPECT_EQ(sim.stop(), 0);
+  std::vector<Sample> recorded = samples_in(log);
+  ASSERT_EQ(recorded.size(), 30u);
+  std::map<uint64_t, std::vector<Sample>> per_device = by_device(recorded);
+  ASSERT_EQ(per_device.size(), 2u);
+  // The robot was turning: its pose and what its laser sees changed.
+  for (const auto& [key, samples] : per_device)
+    EXPECT_NE(samples.front().values, samples.back().values) << key;
+
+  Outcome info = troupe({"play", log, "--info"});
+  EXPECT_NE(info.out.find("node      troupe-sim\n"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("device    r0/ranger:0\ttroupe-sim"), std::string::npos) << info.out;
+  // The replay serves the devices under the robot's name, so a client
+  // written against the simulator finds them there.
+  EXPECT_EQ(by_device(play(log, {"r0/position2d:0", "r0/ranger:0"})), per_device);
 }
 
 TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
