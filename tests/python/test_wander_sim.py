@@ -36,8 +36,11 @@ class Watcher:
         self.client = troupe.Client("127.0.0.1", port, name="watcher")
         if not self.client.connect():
             raise RuntimeError(self.client.error)
-        self.base = troupe.Position2dProxy(self.client, addr=self.client.resolve("r0/position2d:0"))
-        self.laser = troupe.RangerProxy(self.client, addr=self.client.resolve("r0/ranger:0"))
+        base, laser = self.client.resolve("r0/position2d:0"), self.client.resolve("r0/ranger:0")
+        if base is None or laser is None:
+            raise RuntimeError(self.client.error)
+        self.base = troupe.Position2dProxy(self.client, addr=base)
+        self.laser = troupe.RangerProxy(self.client, addr=laser)
         self.sim = troupe.SimulationProxy(self.client)
         if not (self.base.is_open and self.laser.is_open and self.sim.is_open):
             raise RuntimeError(self.client.error)
