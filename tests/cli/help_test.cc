@@ -75,7 +75,7 @@ void expect_help(const Result& r, const std::string& name, const std::string& ho
 }
 
 TEST(CliHelp, TheCommandListNamesEveryCommandAndHasExamples) {
-  for (const std::string& how : {"help", "--help", "-h"}) {
+  for (const char* how : {"help", "--help", "-h"}) {
     Result r = troupe(how);
     EXPECT_EQ(r.rc, 0) << how;
     EXPECT_EQ(r.out.rfind("usage: troupe COMMAND", 0), 0u) << r.out;
