@@ -10,6 +10,7 @@ explores instead of circling. Randomness comes from one seeded generator.
               [--duration S] [--seed N]
 
 examples:
+    troupe-sim examples/worlds/room.world &  # one robot, its laser is ranger:0
     wander.py localhost                      # position2d:0 and ranger:0
     wander.py localhost:7000 --robot r3 --ranger 1 --duration 60
 
