@@ -25,8 +25,9 @@ const char kUsage[] =
     "  --max-range M   longer beams are not drawn, m (default 30)\n"
     "  --margin M      border around the outermost endpoint, m (default 1)\n"
     "\n"
-    "example:\n"
-    "  troupe-logmap aces-corrected.log.gz -o aces.png --resolution 0.05\n";
+    "examples:\n"
+    "  troupe-logmap aces-corrected.log.gz -o aces.png --resolution 0.05\n"
+    "  troupe logmap run.log -o run.png --max-range 8 --margin 0.5\n";
 
 bool parse_positive(const char* text, double& out) {
   char* end = nullptr;

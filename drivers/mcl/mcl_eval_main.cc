@@ -31,8 +31,9 @@ const char kUsage[] =
     "  --motion-noise A  all four odometry noise alphas (default 0.01)\n"
     "  --per-scan      print every scan's error\n"
     "\n"
-    "example:\n"
-    "  troupe-mcl-eval aces-corrected.log.gz --seed 3 --particles 2000\n";
+    "examples:\n"
+    "  troupe-mcl-eval aces-corrected.log.gz --seed 3 --particles 2000\n"
+    "  troupe mcl-eval aces-corrected.log.gz --global --per-scan   # from no idea where it is\n";
 
 bool parse_count(const char* text, uint64_t max, uint64_t& out) {
   char* end = nullptr;

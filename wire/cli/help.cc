@@ -57,8 +57,9 @@ const char* help_text(std::string_view command) {
            "speed by 0.1 m/s, a/d (or left/right) the turn rate by 0.2 rad/s, space stops,\n"
            "q quits (and stops the robot). The command is re-sent every 100 ms.\n"
            "\n"
-           "example:\n"
-           "  troupe teleop localhost position2d:0\n";
+           "examples:\n"
+           "  troupe teleop localhost position2d:0\n"
+           "  troupe teleop localhost:7000 r2/position2d:0   # robot r2 of troupe-sim --port 7000\n";
   }
   return nullptr;
 }

@@ -1,6 +1,7 @@
 // troupe: the command-line client. `troupe help` lists the commands.
 #include <unistd.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <cstring>
@@ -11,19 +12,76 @@
 
 namespace {
 
-const char kUsage[] =
-    "usage: troupe COMMAND ARGS...\n"
-    "\n"
-    "  ls HOST                    list the devices of a node or simulator\n"
-    "  echo HOST ADDR             print data as it arrives, one line each\n"
-    "  cmd HOST ADDR VERB ARGS    send a command (e.g. vel 0.3 0 0.2)\n"
-    "  req HOST ADDR VERB ARGS    send a request and print its reply\n"
-    "  teleop HOST ADDR           drive a position2d device with the keyboard\n"
-    "  help COMMAND               details and examples of a command\n"
-    "\n"
-    "HOST is HOST[:PORT] (port 6665 by default); ADDR is [ROBOT/]INTERFACE:INDEX,\n"
-    "e.g. position2d:0 or r3/ranger:1. Other commands run the program troupe-COMMAND\n"
-    "(installed tools such as troupe logmap or troupe mcl-eval).\n";
+using troupe::cli::cmd_echo;
+using troupe::cli::cmd_ls;
+using troupe::cli::cmd_teleop;
+
+int cmd_command(const std::vector<std::string>& args) {
+  return troupe::cli::cmd_send(args, troupe::wire::Kind::Command);
+}
+int cmd_request(const std::vector<std::string>& args) {
+  return troupe::cli::cmd_send(args, troupe::wire::Kind::Request);
+}
+
+/// A subcommand: built in (run), or the program troupe-NAME (run is null).
+struct Command {
+  const char* name;
+  const char* synopsis;
+  const char* summary;
+  int (*run)(const std::vector<std::string>& args);
+};
+
+// The programs are the tools of this tree that are meant for users; any
+// other troupe-NAME on the PATH works the same way without being listed.
+constexpr Command kCommands[] = {
+    {"ls", "HOST", "list the devices of a node or simulator", cmd_ls},
+    {"echo", "HOST ADDR", "print data as it arrives, one line each", cmd_echo},
+    {"cmd", "HOST ADDR VERB ARGS", "send a command (e.g. vel 0.3 0 0.2)", cmd_command},
+    {"req", "HOST ADDR VERB ARGS", "send a request and print its reply", cmd_request},
+    {"teleop", "HOST ADDR", "drive a position2d device with the keyboard", cmd_teleop},
+    {"record", "HOST ADDR... -o FILE", "record devices' data to a log file", nullptr},
+    {"play", "FILE", "serve a recorded log again, as a node", nullptr},
+    {"sim", "WORLD", "simulate a Stage world and serve its robots", nullptr},
+    {"node", "CONFIG", "run a device server (troupe-node)", nullptr},
+    {"logmap", "LOG -o MAP.png", "draw an occupancy map from a CARMEN log", nullptr},
+    {"mcl-eval", "LOG", "Monte Carlo localization on a CARMEN log, scored", nullptr},
+    {"robocup", "WORLD", "run a RoboCup F2000 world", nullptr},
+    {"goalkeeper-bench", "", "the goalkeeper benchmark table", nullptr},
+    {"robocup-motion", "record|fit|check", "train and check the learned motion model", nullptr},
+    {"emulate-p2os", "", "a Pioneer (P2OS) on a pseudo-terminal", nullptr},
+    {"emulate-sicklms200", "", "a SICK LMS200 on a pseudo-terminal", nullptr},
+    {"odrive-emu", "--can IFACE", "ODrive axes on a CAN bus", nullptr},
+};
+
+std::string usage_text() {
+  std::string text = "usage: troupe COMMAND ARGS...\n\n";
+  auto line = [&](const Command& c) {
+    std::string head = std::string(c.name) + " " + c.synopsis;
+    head.resize(std::max<size_t>(head.size() + 1, 33), ' ');
+    text += "  " + head + c.summary + "\n";
+  };
+  for (const Command& c : kCommands) {
+    if (c.run != nullptr) line(c);
+  }
+  line({"help", "COMMAND", "details and examples of a command", nullptr});
+  text += "\nprograms run as troupe-COMMAND (next to troupe, else on the PATH):\n";
+  for (const Command& c : kCommands) {
+    if (c.run == nullptr) line(c);
+  }
+  text +=
+      "\n"
+      "HOST is HOST[:PORT] (port 6665 by default); ADDR is [ROBOT/]INTERFACE:INDEX,\n"
+      "e.g. position2d:0 or r3/ranger:1. Any other troupe-COMMAND on the PATH is a\n"
+      "command too.\n"
+      "\n"
+      "examples:\n"
+      "  troupe sim examples/worlds/room.world &\n"
+      "  troupe ls localhost\n"
+      "  troupe cmd localhost r0/position2d:0 vel 0.3 0 0.2\n"
+      "  troupe echo localhost r0/ranger:0 --count 3\n"
+      "  troupe help record\n";
+  return text;
+}
 
 // Runs troupe-<name> from this program's folder, else from PATH (git's way
 // of growing subcommands without this file knowing them).
@@ -43,7 +101,8 @@ int run_external(const std::string& name, std::vector<std::string> rest) {
     execv(sibling.c_str(), args.data());
   }
   execvp(program.c_str(), args.data());
-  fprintf(stderr, "troupe: unknown command '%s' (no program %s)\n\n%s", name.c_str(), program.c_str(), kUsage);
+  fprintf(stderr, "troupe: unknown command '%s' (no program %s; see: troupe help)\n", name.c_str(),
+          program.c_str());
   return troupe::cli::kExitUsage;
 }
 
@@ -51,13 +110,13 @@ int run_external(const std::string& name, std::vector<std::string> rest) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    fputs(kUsage, stderr);
+    fputs(usage_text().c_str(), stderr);
     return troupe::cli::kExitUsage;
   }
   std::string command = argv[1];
   std::vector<std::string> args(argv + 2, argv + argc);
   if (command == "-h" || command == "--help" || (command == "help" && args.empty())) {
-    fputs(kUsage, stdout);
+    fputs(usage_text().c_str(), stdout);
     return 0;
   }
   if (command == "help") {
@@ -75,10 +134,8 @@ int main(int argc, char** argv) {
       }
     }
   }
-  if (command == "ls") return troupe::cli::cmd_ls(args);
-  if (command == "echo") return troupe::cli::cmd_echo(args);
-  if (command == "cmd") return troupe::cli::cmd_send(args, troupe::wire::Kind::Command);
-  if (command == "req") return troupe::cli::cmd_send(args, troupe::wire::Kind::Request);
-  if (command == "teleop") return troupe::cli::cmd_teleop(args);
+  for (const Command& c : kCommands) {
+    if (c.run != nullptr && command == c.name) return c.run(args);
+  }
   return run_external(command, args);
 }

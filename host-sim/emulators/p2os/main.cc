@@ -33,8 +33,9 @@ const char kUsage[] =
     "  --seed N         seed of the fault generator (default 1)\n"
     "  --no-baud-check  talk whatever speed the driver's end is set to\n"
     "\n"
-    "example:\n"
-    "  troupe-emulate-p2os --link pioneer-port --baud 38400\n";
+    "examples:\n"
+    "  troupe-emulate-p2os --link pioneer-port --baud 38400\n"
+    "  troupe emulate-p2os --link pioneer-port --drop 0.01 --seed 7   # a noisy cable\n";
 
 volatile sig_atomic_t g_stop = 0;
 

@@ -31,8 +31,9 @@ const char kUsage[] =
     "  --seed N         seed of the fault generator (default 1)\n"
     "  --no-baud-check  talk whatever speed the driver's end is set to\n"
     "\n"
-    "example:\n"
-    "  troupe-emulate-sicklms200 --link laser-port\n";
+    "examples:\n"
+    "  troupe-emulate-sicklms200 --link laser-port\n"
+    "  troupe emulate-sicklms200 --link laser-port --tear 0.05 --seed 3   # torn telegrams\n";
 
 volatile sig_atomic_t g_stop = 0;
 

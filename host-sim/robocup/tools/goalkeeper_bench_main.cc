@@ -38,13 +38,38 @@ bool key_value(const std::string& s, std::pair<std::string, std::string>& out) {
   return true;
 }
 
-int usage() {
-  fprintf(stderr,
-          "usage: troupe-goalkeeper-bench [--world FILE] [--shots N] [--seeds 1,2,3] [--policies a,b,...]\n"
-          "       [--keeper ROBOT] [--striker ROBOT] [--keeper-plugin NAME] [--striker-plugin NAME]\n"
-          "       [--keeper-option key=value]... [--striker-option key=value]...\n"
-          "       [--plugin-path DIR]... [--timeout S] [--quiet]\n");
-  return 2;
+const char kUsage[] =
+    "usage: troupe-goalkeeper-bench [--world FILE] [--shots N] [--seeds 1,2,3] [--policies a,b,...]\n"
+    "       [--keeper ROBOT] [--striker ROBOT] [--keeper-plugin NAME] [--striker-plugin NAME]\n"
+    "       [--keeper-option key=value]... [--striker-option key=value]...\n"
+    "       [--plugin-path DIR]... [--timeout S] [--quiet]\n";
+
+const char kHelp[] =
+    "\n"
+    "The goalkeeper benchmark: for every seed and keeper policy a striker takes the\n"
+    "same seeded shots; prints goals, saves, misses and goals/shots per policy.\n"
+    "\n"
+    "  --world FILE          robots `keeper` and `striker` (default: the standard world)\n"
+    "  --shots N             shots per policy and seed (default 20)\n"
+    "  --seeds A,B,...       seeds of the shots (default 1,2,3)\n"
+    "  --policies A,B,...    keeper policies (default none,random,pattern,block,intercept,mixed)\n"
+    "  --keeper/--striker ROBOT           robot names in the world\n"
+    "  --keeper-plugin/--striker-plugin NAME   player plugins (default goalkeeper, striker)\n"
+    "  --keeper-option/--striker-option K=V    more plugin options (repeatable)\n"
+    "  --plugin-path DIR     look for plugins in DIR first (repeatable)\n"
+    "  --timeout S           a shot not decided by then is over, s (default 6)\n"
+    "  --quiet               no progress on stderr\n"
+    "\n"
+    "examples:\n"
+    "  troupe-goalkeeper-bench --shots 100 --seeds 1,2,3\n"
+    "  troupe goalkeeper-bench --policies block,intercept --striker-plugin mystriker\n";
+
+/// The short usage to stderr for a mistake (exit 2); the whole help to
+/// stdout when asked (exit 0).
+int usage(bool asked = false) {
+  fputs(kUsage, asked ? stdout : stderr);
+  if (asked) fputs(kHelp, stdout);
+  return asked ? 0 : 2;
 }
 
 }  // namespace
@@ -60,7 +85,7 @@ int main(int argc, char** argv) {
       quiet = true;
       continue;
     }
-    if (arg == "-h" || arg == "--help") return usage(), 0;
+    if (arg == "-h" || arg == "--help") return usage(true);
     if (i + 1 >= argc) return usage();
     const std::string v = argv[++i];
     std::pair<std::string, std::string> kv;

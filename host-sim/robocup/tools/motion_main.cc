@@ -23,12 +23,34 @@ using namespace troupe::robocup;
 
 namespace {
 
-int usage() {
-  fprintf(stderr,
-          "usage: troupe-robocup-motion record ROBOT_FILE [--seconds S] [--seed N] [--out LOG]\n"
-          "       troupe-robocup-motion fit LOG --out MODEL\n"
-          "       troupe-robocup-motion check MODEL LOG\n");
-  return 2;
+const char kUsage[] =
+    "usage: troupe-robocup-motion record ROBOT_FILE [--seconds S] [--seed N] [--out LOG]\n"
+    "       troupe-robocup-motion fit LOG --out MODEL\n"
+    "       troupe-robocup-motion check MODEL LOG\n";
+
+const char kHelp[] =
+    "\n"
+    "The learned motion model: `record` drives the robot of ROBOT_FILE with seeded\n"
+    "random commands and pushes and writes a motion log (a line per cycle: time_s\n"
+    "vx vy w cmd_vx cmd_vy cmd_w, robot frame, SI; a real robot's log trains the\n"
+    "same way); `fit` trains a model on a log; `check` prints how well a model\n"
+    "predicts a log against assuming the velocity stays (RMS per axis).\n"
+    "\n"
+    "  --seconds S   simulated time to record, s (default 120)\n"
+    "  --seed N      seed of the commands and pushes (default 1)\n"
+    "  --out FILE    where the log (record) or the model (fit) goes\n"
+    "\n"
+    "examples:\n"
+    "  troupe-robocup-motion record examples/robocup/robots/pioneer.robot --seed 1 --out run.log\n"
+    "  troupe robocup-motion fit run.log --out pioneer.motion\n"
+    "  troupe robocup-motion check pioneer.motion other-run.log\n";
+
+/// The short usage to stderr for a mistake (exit 2); the whole help to
+/// stdout when asked (exit 0).
+int usage(bool asked = false) {
+  fputs(kUsage, asked ? stdout : stderr);
+  if (asked) fputs(kHelp, stdout);
+  return asked ? 0 : 2;
 }
 
 int record(int argc, char** argv) {
@@ -120,6 +142,10 @@ int check(int argc, char** argv) {
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-robocup-motion");
   if (argc < 2) return usage();
+  if (!strcmp(argv[1], "help")) return usage(true);
+  for (int i = 1; i < argc; ++i) {
+    if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) return usage(true);
+  }
   if (!strcmp(argv[1], "record")) return record(argc, argv);
   if (!strcmp(argv[1], "fit")) return fit(argc, argv);
   if (!strcmp(argv[1], "check")) return check(argc, argv);

@@ -24,10 +24,33 @@ using namespace troupe::robocup;
 
 namespace {
 
-void usage() {
-  fprintf(stderr,
-          "usage: troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]\n"
-          "                     [--plugin-path DIR]... [--realtime] [--profile] [--quiet]\n");
+const char kUsage[] =
+    "usage: troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]\n"
+    "                     [--plugin-path DIR]... [--realtime] [--profile] [--quiet]\n";
+
+const char kHelp[] =
+    "\n"
+    "Runs a RoboCup F2000 world: the field, ball, robots and their plugins, and the\n"
+    "referee. Without a script it runs as fast as it can and prints the referee's\n"
+    "events and the final score.\n"
+    "\n"
+    "  --seconds S      simulated time to run, s (default: the referee's duration, else 60)\n"
+    "  --seed N         seed of every random number in the run (default: the world's)\n"
+    "  --script FILE    run console commands from FILE (run 10, start ROBOT PLUGIN, score, ...)\n"
+    "  --interactive    run console commands typed on standard input\n"
+    "  --plugin-path D  look for plugins in folder D first (repeatable)\n"
+    "  --realtime       keep to real time instead of running flat out\n"
+    "  --profile        print the mean time per cycle of each phase at the end\n"
+    "  --quiet          no event lines, only the final score\n"
+    "\n"
+    "examples:\n"
+    "  troupe-robocup examples/robocup/match.world --seconds 120 --seed 4\n"
+    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n";
+
+/// The short usage to stderr for a mistake; the whole help to stdout when asked.
+void usage(bool asked = false) {
+  fputs(kUsage, asked ? stdout : stderr);
+  if (asked) fputs(kHelp, stdout);
 }
 
 struct Totals {
@@ -92,7 +115,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (arg == "-h" || arg == "--help") {
-      usage();
+      usage(true);
       return 0;
     } else if (world_file.empty() && arg[0] != '-') {
       world_file = arg;

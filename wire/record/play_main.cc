@@ -1,0 +1,222 @@
+// troupe-play (`troupe play`): serves a troupe log again as a node.
+#include <signal.h>
+#include <sys/epoll.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/clock.h"
+#include "runtime/log.h"
+#include "runtime/node.h"
+#include "wire/address.h"
+#include "wire/record/replay_driver.h"
+#include "wire/record/stop_signals.h"
+
+namespace {
+
+const char kUsage[] =
+    "usage: troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
+    "       troupe play FILE --info\n"
+    "\n"
+    "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
+    "devices, with their data at the recorded pace and with the timestamps the\n"
+    "recorded node gave it. Clients connect to it as to the node that was\n"
+    "recorded. It ends after the last frame unless --loop or --hold. A truncated\n"
+    "or corrupt file is reported with the byte offset where it goes wrong, and\n"
+    "everything before that offset plays.\n"
+    "\n"
+    "  --speed X      play X times as fast as recorded (default 1; 0.5: half speed)\n"
+    "  --port P       TCP port (default 6665; 0: any free port, printed)\n"
+    "  --listen ADDR  address to listen on (default 127.0.0.1)\n"
+    "  --loop         start over after the last frame\n"
+    "  --wait         hold the start until every recorded device has a reader\n"
+    "  --hold         keep serving after the last frame, until Ctrl-C\n"
+    "  --info         print what the file holds and exit\n"
+    "  --log-level LEVEL  error, warn, info (default) or debug\n"
+    "\n"
+    "examples:\n"
+    "  troupe play run1.trl\n"
+    "  troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0\n"
+    "  troupe play laser.trl --loop --listen 0.0.0.0\n";
+
+// After the last frame, the node serves this long more so that clients
+// receive what is still queued for them, us.
+constexpr uint64_t kDrainUs = 500000;
+
+int usage_error(const std::string& message) {
+  fprintf(stderr, "troupe play: %s (see: troupe play --help)\n", message.c_str());
+  return 2;
+}
+
+class StopWatch final : public troupe::FdHandler {
+ public:
+  StopWatch(troupe::Node& node, troupe::record::StopSignals& signals) : node_(node), signals_(signals) {
+    if (signals_.fd() >= 0) node_.loop().watch(signals_.fd(), EPOLLIN, this);
+  }
+  void on_fd(int, uint32_t) override {
+    if (const char* sig = signals_.take()) troupe::log_info("%s: stopping", sig);
+    node_.stop();
+  }
+
+ private:
+  troupe::Node& node_;
+  troupe::record::StopSignals& signals_;
+};
+
+struct Recorded {
+  troupe::wire::Address addr;
+  std::string robot_name, driver;
+};
+
+std::vector<Recorded> recorded_devices(const troupe::record::LogSummary& summary) {
+  std::vector<Recorded> out;
+  if (summary.device_list.empty()) return out;
+  const troupe::wire::DeviceList* list =
+      troupe::wire::trusted_message(summary.device_list)->body_as_DeviceList();
+  if (list->devices() == nullptr) return out;
+  for (const troupe::wire::DeviceInfo* d : *list->devices()) {
+    if (d->addr() == nullptr) continue;
+    out.push_back(
+        {*d->addr(), d->robot_name() ? d->robot_name()->str() : "", d->driver() ? d->driver()->str() : ""});
+  }
+  return out;
+}
+
+void print_info(const std::string& path, const troupe::record::LogSummary& s,
+                const std::vector<Recorded>& devices) {
+  printf("file      %s\n", path.c_str());
+  printf("node      %s\n", s.node_name.c_str());
+  printf("records   %llu (%llu data)\n", static_cast<unsigned long long>(s.records),
+         static_cast<unsigned long long>(s.data_records));
+  printf("duration  %.3f s\n", double(s.last_data_us - s.first_data_us) * 1e-6);
+  for (const Recorded& d : devices) {
+    printf("device    %s\t%s\n", troupe::wire::format_address(d.addr, d.robot_name).c_str(),
+           d.driver.c_str());
+  }
+  printf("status    %s\n", s.problem.empty() ? "complete" : s.problem.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  troupe::set_log_program("troupe-play");
+  signal(SIGPIPE, SIG_IGN);
+  troupe::record::ReplayDriver::Options replay;
+  troupe::Node::Options node_options;
+  bool hold = false, info = false;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto value = [&](const char*& out) {
+      if (i + 1 >= argc) return false;
+      out = argv[++i];
+      return true;
+    };
+    const char* v = nullptr;
+    if (a == "-h" || a == "--help") {
+      fputs(kUsage, stdout);
+      return 0;
+    } else if (a == "--speed") {
+      char* end = nullptr;
+      if (!value(v) || (replay.speed = strtod(v, &end), *end != '\0') || !std::isfinite(replay.speed) ||
+          replay.speed <= 0) {
+        return usage_error("--speed needs a number > 0");
+      }
+    } else if (a == "--port") {
+      char* end = nullptr;
+      long p = value(v) ? strtol(v, &end, 10) : -1;
+      if (v == nullptr || *end != '\0' || p < 0 || p > 65535) return usage_error("--port needs 0..65535");
+      node_options.port = uint16_t(p);
+    } else if (a == "--listen") {
+      if (!value(v)) return usage_error("--listen needs an address");
+      node_options.listen = v;
+    } else if (a == "--loop") {
+      replay.loop = true;
+    } else if (a == "--wait") {
+      replay.wait_for_readers = true;
+    } else if (a == "--hold") {
+      hold = true;
+    } else if (a == "--info") {
+      info = true;
+    } else if (a == "--log-level") {
+      troupe::LogLevel level{};
+      if (!value(v) || !troupe::parse_log_level(v, level))
+        return usage_error("--log-level needs error, warn, info or debug");
+      troupe::set_log_level(level);
+    } else if (a.size() > 1 && a[0] == '-') {
+      return usage_error("unknown option '" + a + "'");
+    } else if (replay.path.empty()) {
+      replay.path = a;
+    } else {
+      return usage_error("unexpected argument '" + a + "'");
+    }
+  }
+  if (replay.path.empty()) return usage_error("missing FILE");
+
+  std::string error;
+  troupe::record::LogSummary summary;
+  if (!troupe::record::summarize_log(replay.path, summary, error)) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
+  std::vector<Recorded> devices = recorded_devices(summary);
+  if (info) {
+    print_info(replay.path, summary, devices);
+    return 0;
+  }
+  if (!summary.problem.empty()) {
+    troupe::log_warn("%s; playing the %llu data frames before it", summary.problem.c_str(),
+                     static_cast<unsigned long long>(summary.data_records));
+  }
+  if (devices.empty()) {
+    troupe::log_error("%s: no device list before byte %llu: nothing to serve", replay.path.c_str(),
+                      static_cast<unsigned long long>(summary.valid_bytes));
+    return 1;
+  }
+
+  node_options.name = summary.node_name.empty() ? "troupe-play" : summary.node_name + " (replay)";
+  troupe::Node node(node_options);
+  auto* driver = new troupe::record::ReplayDriver(replay);
+  std::vector<troupe::DeviceId> ids;
+  for (const Recorded& d : devices) {
+    troupe::DeviceId id =
+        node.add_device(d.addr, driver, d.driver.empty() ? "replay" : d.driver + " (replay)", d.robot_name);
+    if (id == troupe::kNoDevice) {
+      troupe::log_error("%s: device %s is listed twice", replay.path.c_str(),
+                        troupe::wire::format_address(d.addr, d.robot_name).c_str());
+      delete driver;
+      return 1;
+    }
+    ids.push_back(id);
+  }
+  troupe::DriverSetup setup;
+  setup.name = "replay";
+  setup.provides = ids;
+  if (!node.add_driver(std::unique_ptr<troupe::Driver>(driver), setup, error)) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
+  if (!node.start(error)) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
+  troupe::record::StopSignals signals;
+  StopWatch stop(node, signals);
+  troupe::log_info("playing %s (%llu frames of %zu devices, %.1f s) at speed %g on %s:%u",
+                   replay.path.c_str(), static_cast<unsigned long long>(summary.data_records), devices.size(),
+                   double(summary.last_data_us - summary.first_data_us) * 1e-6, replay.speed,
+                   node_options.listen.c_str(), unsigned(node.port()));
+  uint64_t drain_until = 0;
+  while (!node.loop().stopped()) {
+    node.poll(100000);
+    if (hold || !driver->finished()) continue;
+    if (drain_until == 0) drain_until = troupe::monotonic_us() + kDrainUs;
+    if (troupe::monotonic_us() >= drain_until) break;
+  }
+  troupe::log_info("played %llu frames", static_cast<unsigned long long>(driver->published()));
+  node.shutdown();
+  return 0;
+}

@@ -1,0 +1,78 @@
+// The recorder behind `troupe record`: opens devices of a node for reading
+// and writes their Data frames, as received and with receive times, to a
+// log file (log_file.h). A lost connection is re-established with backoff
+// and the devices opened again; the recording goes on in the same file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "wire/record/log_file.h"
+#include "wire/record/session.h"
+
+namespace troupe::record {
+
+struct RecordOptions {
+  std::string host;
+  uint16_t port = wire::kDefaultPort;
+  /// "[ROBOT/]INTERFACE:INDEX" of each device to record.
+  std::vector<std::string> devices;
+  std::string output;
+  /// Stop after this long, s (0: until stopped).
+  double duration_s = 0;
+  /// Stop after this many Data frames (0: no limit).
+  uint64_t max_frames = 0;
+  /// Connection attempts and replies wait this long, ms.
+  int timeout_ms = 3000;
+  /// Backoff between reconnection attempts doubles from min to max, ms.
+  uint32_t reconnect_min_ms = 100;
+  uint32_t reconnect_max_ms = 2000;
+};
+
+class Recorder {
+ public:
+  explicit Recorder(RecordOptions options);
+
+  /// Connects, resolves and opens every device, creates the file and writes
+  /// the node's Hello and the recorded devices' list. False with `error`
+  /// (no host, no such device, cannot create the file): nothing recorded.
+  bool start(std::string& error);
+  /// Records until the duration or frame count is reached, or `stop_fd`
+  /// (-1: none) becomes readable. False with `error` on a write failure.
+  bool run(int stop_fd, std::string& error);
+
+  uint64_t frames() const { return frames_; }
+  uint64_t bytes() const { return writer_.bytes(); }
+  /// Seconds since start().
+  double elapsed_s() const;
+  uint32_t reconnections() const { return reconnections_; }
+
+ private:
+  struct Device {
+    wire::Address addr;
+    std::string name;  // as the user wrote it, for messages
+    uint32_t open_seq = 0;
+    bool acked = false;
+  };
+
+  bool resolve(std::string& error);
+  bool send_opens(std::string& error);
+  /// Writes a Data frame of a recorded device; notes Open replies.
+  bool handle(std::span<const uint8_t> frame, const wire::Message& msg, std::string& error);
+  bool reconnect(int stop_fd, uint64_t deadline_us);
+  bool done() const;
+
+  RecordOptions options_;
+  Session session_;
+  LogWriter writer_;
+  std::vector<Device> devices_;
+  std::vector<uint8_t> device_list_;  // the node's DeviceList reply
+  uint32_t seq_ = 0;
+  uint64_t start_us_ = 0;
+  uint64_t frames_ = 0;
+  uint32_t reconnections_ = 0;
+  std::string open_error_;
+};
+
+}  // namespace troupe::record

@@ -1,0 +1,139 @@
+#include "wire/record/replay_driver.h"
+
+#include <algorithm>
+
+#include "runtime/log.h"
+#include "runtime/node.h"
+
+namespace troupe::record {
+namespace {
+
+// How often a replay waiting for readers looks whether they came, us.
+constexpr uint64_t kReaderCheckUs = 20000;
+
+}  // namespace
+
+ReplayDriver::ReplayDriver(Options options) : options_(std::move(options)) {}
+
+bool ReplayDriver::setup(Node& node, const DriverSetup& setup, std::string& error) {
+  if (!(options_.speed > 0)) {
+    error = "the replay speed must be > 0";
+    return false;
+  }
+  if (!copier_.ok()) {
+    error = "the embedded message schema does not verify (a build problem)";
+    return false;
+  }
+  for (DeviceId id : setup.provides) devices_[wire::address_key(node.address(id))] = id;
+  if (!reader_.open(options_.path, error)) return false;
+  if (options_.wait_for_readers) {
+    waiting_ = true;
+    timer_ = node.loop().start_timer(kReaderCheckUs, kReaderCheckUs, this);
+    if (timer_ == 0) {
+      error = "no timer left";
+      return false;
+    }
+    return true;
+  }
+  begin_pass();
+  return true;
+}
+
+void ReplayDriver::shutdown() {
+  if (timer_ != 0) node_->loop().cancel_timer(timer_);
+  timer_ = 0;
+}
+
+void ReplayDriver::on_timer(TimerId) {
+  if (!waiting_) {
+    timer_ = 0;
+    if (restart_) {
+      restart_ = false;
+      return begin_pass();
+    }
+    play_due();
+    return;
+  }
+  bool all = std::all_of(devices_.begin(), devices_.end(),
+                         [&](const auto& d) { return node_->has_readers(d.second); });
+  if (!all) return;
+  node_->loop().cancel_timer(timer_);
+  timer_ = 0;
+  waiting_ = false;
+  begin_pass();
+}
+
+void ReplayDriver::begin_pass() {
+  ++passes_;
+  reader_.rewind();
+  has_current_ = read_data();
+  if (!has_current_) {
+    finished_ = true;  // nothing to play (or nothing more: an empty pass would loop forever)
+    return;
+  }
+  pass_start_us_ = node_->loop().now_us();
+  first_record_us_ = last_record_us_ = current_.time_us;
+  pass_frames_ = 0;
+  play_due();
+}
+
+bool ReplayDriver::read_data() {
+  while (reader_.next(current_)) {
+    if (current_.message->header()->kind() == wire::Kind::Data) return true;
+  }
+  return false;
+}
+
+void ReplayDriver::play_due() {
+  for (;;) {
+    if (!has_current_) {
+      if (!options_.loop) {
+        finished_ = true;
+        return;
+      }
+      // The next pass starts one mean frame interval later, as the next
+      // frame would have: never at once, so a pass is never re-entered.
+      uint64_t span_us = last_record_us_ - first_record_us_;
+      uint64_t gap_us =
+          pass_frames_ > 1 ? uint64_t(double(span_us) / double(pass_frames_ - 1) / options_.speed) : 0;
+      restart_ = true;
+      timer_ = node_->loop().start_timer(std::max<uint64_t>(gap_us, 1000), 0, this);
+      return;
+    }
+    // Receive times are offsets from the recording's start; a record older
+    // than the pass's first (a clock step in the recorder) plays at once.
+    uint64_t offset_us = current_.time_us > first_record_us_ ? current_.time_us - first_record_us_ : 0;
+    uint64_t due = pass_start_us_ + uint64_t(double(offset_us) / options_.speed);
+    uint64_t now = node_->loop().now_us();
+    if (due > now) {
+      timer_ = node_->loop().start_timer(due - now, 0, this);
+      return;
+    }
+    publish(current_);
+    ++pass_frames_;
+    last_record_us_ = std::max(last_record_us_, current_.time_us);
+    has_current_ = read_data();
+  }
+}
+
+void ReplayDriver::publish(const LogRecord& record) {
+  const wire::Message& msg = *record.message;
+  const wire::Header& h = *msg.header();
+  auto it = devices_.find(wire::address_key(h.addr()));
+  if (it == devices_.end()) return;  // data of a device the log's list does not name
+  if (msg.body_type() != wire::Body::NONE && !copier_.can_copy(msg.body_type())) {
+    if (!warned_unknown_) {
+      log_warn("%s: byte %llu: a body type this build does not know (%u); skipping such frames",
+               options_.path.c_str(), static_cast<unsigned long long>(record.offset),
+               unsigned(msg.body_type()));
+      warned_unknown_ = true;
+    }
+    return;
+  }
+  auto& b = node_->begin();
+  flatbuffers::Offset<void> body = copier_.copy(b, msg);
+  node_->publish(it->second, h.subtype(), msg.body_type(), body, wire::time_us(h));
+  ++published_;
+}
+
+}  // namespace troupe::record
