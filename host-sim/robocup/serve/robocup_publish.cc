@@ -16,16 +16,16 @@ uint64_t to_us(double seconds) {
 
 void RobocupServer::publish() {
   for (Device& d : devices_) {
-    // The game is remembered even unread, so a late reader is told only
-    // about changes it has not seen.
+    // Game and kicker change rarely: they are published even unread, so a
+    // reader gets the current state when it opens the device.
     if (d.kind == Kind::Simulation) publish_game(d);
+    if (d.kind == Kind::Kicker) publish_kicker(d);
     if (!node_->has_readers(d.id)) continue;
     switch (d.kind) {
       case Kind::Position:
         publish_position(d);
         break;
       case Kind::Kicker:
-        publish_kicker(d);
         break;
       case Kind::Fiducial:
         publish_fiducials(d);
