@@ -1,0 +1,66 @@
+// The example striker (examples/robocup/striker) drives a served robot from
+// features over TCP, in lockstep with the paused simulator: it reaches the
+// ball, kicks it, and the ball goes towards the goal it attacks.
+#include "examples/robocup/striker/striker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tests/robocup/serve_fixture.h"
+
+namespace troupe::robocup::test {
+namespace {
+
+// The example's robots on the 2001 field: the client's striker (yellow,
+// attacks the blue goal at -x) and a blue keeper standing in its goal.
+const char* kWorld = R"(
+world cycle=0.01 restitution=0.5 friction=0.3 seed=11
+field length=9 width=5
+ball radius=0.11 mass=0.43 deceleration=0.4 x=-1.5 y=0.8
+referee goal_pause=1 duration=0
+robot blue0 file="robots/keeper.robot" team=blue x=-4.15 y=0 a=0 {
+  player goalkeeper policy=none
+}
+robot yellow3 file="robots/pioneer.robot" team=yellow x=1 y=-0.5 a=3.14159265
+)";
+
+class StrikerTest : public ServedWorld {
+ protected:
+  void SetUp() override { serve(kWorld); }
+};
+
+TEST_F(StrikerTest, ReachesTheBallAndKicksItTowardsTheGoal) {
+  client::Client c("127.0.0.1", port());
+  ASSERT_TRUE(c.connect()) << c.error();
+  client::SimulationProxy sim(c);
+  examples::Striker striker(c, examples::StrikerOptions{});
+  std::string error;
+  ASSERT_TRUE(striker.start(error)) << error;
+
+  client::Pose2 robot, ball;
+  ASSERT_TRUE(sim.get_pose("yellow3", robot));
+  ASSERT_TRUE(sim.get_pose("ball", ball));
+  const float start_distance = std::hypot(robot.x - ball.x, robot.y - ball.y);
+  float closest = start_distance, ball_min_x = ball.x;
+  bool scored = false;
+  // Up to 20 simulated seconds, one decision per cycle.
+  for (int cycle = 0; cycle < 2000 && !scored; ++cycle) {
+    ASSERT_TRUE(sim.step(1));
+    ASSERT_TRUE(c.sync());  // this cycle's data has arrived
+    striker.tick();
+    ASSERT_TRUE(c.sync());  // the command is in effect
+    ASSERT_TRUE(sim.get_pose("yellow3", robot));
+    ASSERT_TRUE(sim.get_pose("ball", ball));
+    closest = std::min(closest, std::hypot(robot.x - ball.x, robot.y - ball.y));
+    ball_min_x = std::min(ball_min_x, ball.x);
+    scored = sim.game().score_yellow > 0;
+  }
+  // Touching: the ball against the kicker plate is 0.36 m from the centre.
+  EXPECT_LT(closest, 0.42f) << "the striker never reached the ball (start " << start_distance << " m)";
+  EXPECT_GE(striker.kicks(), 1u);
+  EXPECT_TRUE(scored || ball_min_x < -3.0f) << "the ball got only as far as x = " << ball_min_x;
+  EXPECT_EQ(sim.game().score_blue, 0u);
+}
+
+}  // namespace
+}  // namespace troupe::robocup::test
