@@ -46,6 +46,11 @@ class LandmarkTable {
   bool expected(const Pose2& pose, int k, double& x, double& y) const;
 
   size_t landmarks() const { return codes_.size(); }
+  /// The grid's corners, m: the area the table covers.
+  double min_x() const { return x0_; }
+  double min_y() const { return y0_; }
+  double max_x() const { return x0_ + step_ * (nx_ - 1); }
+  double max_y() const { return y0_ + step_ * (ny_ - 1); }
   size_t poses() const { return size_t(nx_) * size_t(ny_) * size_t(headings_); }
 
  private:

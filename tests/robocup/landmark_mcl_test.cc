@@ -3,44 +3,19 @@
 // landmark model then finds a robot driving on the field from its noisy
 // omni-vision detections and odometry, starting from no idea where it is.
 #include <cmath>
-#include <filesystem>
 
 #include "drivers/common_desktop/landmark_model.h"
-#include "tests/robocup/sim_fixture.h"
+#include "tests/robocup/landmark_fixture.h"
 
 namespace troupe::robocup::test {
 namespace {
 
 const std::string kTable = TROUPE_BINARY_DIR "/tests/robocup/field_test.landmarks";
 
-// Goals, goal posts and corner posts only: the table's landmarks.
-const char* kVision = "robots=0 ball=0 lines=0";
-
 /// Learns the table once for every test of this file.
 class LandmarkMcl : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    std::filesystem::remove(kTable);
-    const std::string world = R"(
-world cycle=0.01 seed=5
-field length=9 width=5
-ball radius=0.11 mass=0.43 x=0 y=4
-referee enabled=0
-robot learner team=blue x=0 y=0 a=0 {
-  shape circle r=0.2 z=0,0.6
-  sensor omnivision name=omni range=12 z=0.7 )" +
-                              std::string(kVision) +
-                              R"(
-  player landmark_learner out=")" +
-                              kTable + R"(" step=0.25 headings=8 margin=0.5
-})";
-    std::string error;
-    auto sim = make_sim(world, error);
-    ASSERT_TRUE(sim) << error;
-    ASSERT_TRUE(sim->problems().empty()) << sim->problems().front();
-    // 41 x 25 positions x 8 headings, a cycle each, and one to write.
-    sim->run_for(8200 * 0.01 + 0.05);
-  }
+  static void SetUpTestSuite() { learn_field_table(kTable); }
 };
 
 TEST_F(LandmarkMcl, TheLearnedTableHoldsTheFieldsLandmarks) {
@@ -83,21 +58,8 @@ TEST_F(LandmarkMcl, GlobalLocalizationConvergesFromFeatures) {
   std::string error;
   ASSERT_TRUE(table.load(kTable, error)) << error;
 
-  // A Pioneer with noisy odometry and noisy omni-vision (every 4 cycles)
-  // driving a circle on the field.
-  const std::string world = R"(
-world cycle=0.01 seed=8
-field length=9 width=5
-ball radius=0.11 mass=0.43 x=0 y=4
-referee enabled=0
-robot runner team=blue x=-2 y=1 a=0.5 {)" +
-                            pioneer_block(R"(
-  motion diff_drive max_speed=2 max_turn=6 accel=2.5 turn_accel=15
-  sensor odometry translation_noise=0.03 rotation_noise=0.03 drift=0.02
-  sensor omnivision name=omni range=12 z=0.7 range_noise=0.03 bearing_noise=0.02 period=4 )" +
-                                          std::string(kVision) + R"(
-)") + "}\n";
-  auto sim = make_sim(world, error);
+  // Driving a circle on the field.
+  auto sim = make_sim(runner_world(), error);
   ASSERT_TRUE(sim) << error;
   ASSERT_TRUE(sim->problems().empty()) << sim->problems().front();
   sim->command(0, {0.6, 0, 0.4});
