@@ -74,7 +74,10 @@ int main(int argc, char** argv) {
   SignalWatch signals(runner.node().loop(), runner);
   const troupe::sim::World& w = runner.world();
   size_t controlled = 0;
-  for (const auto& r : w.desc().robots) controlled += r.ctrl.empty() ? 0 : 1;
+  // --no-ctrl leaves every robot to the wire, whatever the world file names.
+  if (!options.no_ctrl) {
+    for (const auto& r : w.desc().robots) controlled += r.ctrl.empty() ? 0 : 1;
+  }
   troupe::log_info("%s: %zu robots (%zu with controllers), step %.0f ms, seed %llu", options.world.c_str(),
                    w.robot_count(), controlled, w.interval() * 1e3,
                    static_cast<unsigned long long>(options.seed));
