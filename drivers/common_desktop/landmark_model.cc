@@ -39,7 +39,10 @@ bool LandmarkTable::parse(const std::string& text, const std::string& name, std:
     while (std::getline(in, line)) {
       ++number;
       if (!line.empty() && line[0] != '#') {
-        words = std::istringstream(line);
+        // Reset in place: move-assigning a stream trips a GCC 12 false
+        // -Wstringop-overflow at -O2.
+        words.clear();
+        words.str(line);
         return true;
       }
     }
