@@ -7,7 +7,8 @@
 //
 //   player landmark_learner out=field.landmarks step=0.25 headings=8 [sensor=omni] [margin=0]
 //
-// out: the table's file (relative to the world file's folder); step: grid
+// out: the table's file (relative to the current folder, like a tool's
+// output, so the source tree stays clean); step: grid
 // spacing, m; headings: grid headings per turn; sensor: the instance whose
 // detections are recorded (default: the robot's first that reports any);
 // margin: how far beyond the touch and goal lines the grid reaches, m
@@ -35,7 +36,6 @@ class LandmarkLearner final : public PlayerPlugin {
  public:
   bool configure(Options& o, std::string& error) override {
     out_ = o.text("out", "");
-    if (!out_.empty() && out_[0] != '/' && !o.base_dir().empty()) out_ = o.base_dir() + "/" + out_;
     step_ = o.number("step", 0.25, 0.02, 5);
     headings_ = int(o.integer("headings", 8, 1, 360));
     sensor_ = o.text("sensor", "");
@@ -123,7 +123,12 @@ class LandmarkLearner final : public PlayerPlugin {
                    double(cells_[i + 1]));
       std::fprintf(f, (i + 2) % (codes_.size() * 2) == 0 ? "\n" : " ");
     }
-    if (std::fclose(f) != 0) std::fprintf(stderr, "landmark_learner: writing %s failed\n", out_.c_str());
+    if (std::fclose(f) != 0) {
+      std::fprintf(stderr, "landmark_learner: writing %s failed\n", out_.c_str());
+    } else {
+      std::fprintf(stderr, "landmark_learner: %s: %d x %d positions x %d headings, %zu landmarks\n", out_.c_str(),
+                   nx_, ny_, headings_, codes_.size());
+    }
   }
 
   std::string out_, sensor_;
