@@ -3,8 +3,12 @@
 // ball, kicks it, and the ball goes towards the goal it attacks.
 #include "examples/robocup/striker/striker.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "tests/robocup/serve_fixture.h"
 
@@ -60,6 +64,61 @@ TEST_F(StrikerTest, ReachesTheBallAndKicksItTowardsTheGoal) {
   EXPECT_GE(striker.kicks(), 1u);
   EXPECT_TRUE(scored || ball_min_x < -3.0f) << "the ball got only as far as x = " << ball_min_x;
   EXPECT_EQ(sim.game().score_blue, 0u);
+}
+
+// The example program as a newcomer runs it, against the example match
+// served in this process: in lockstep it plays 20 s deterministically.
+class StrikerProgram : public ServedWorld {
+ protected:
+  void SetUp() override {
+    WorldSpec spec;
+    std::string error;
+    ASSERT_TRUE(load_world_file(TROUPE_SOURCE_DIR "/examples/robocup/match.world", spec, error)) << error;
+    sim_ = Simulation::create(std::move(spec), PluginLoader({kPluginDir}), error);
+    ASSERT_TRUE(sim_) << error;
+    loop_ = std::make_unique<ServeLoop>(*sim_);
+    ServeOptions o;
+    o.port = 0;
+    o.paused = true;  // from the kick-off: the striker steps it
+    ASSERT_TRUE(loop_->start(o, error)) << error;
+    thread_ = std::thread([this] { loop_->run(); });
+  }
+};
+
+TEST_F(StrikerProgram, PlaysTheExampleMatch) {
+  int out[2];
+  ASSERT_EQ(pipe(out), 0);
+  const std::string target = "127.0.0.1:" + std::to_string(port());
+  pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    close(out[0]);
+    execl(STRIKER_PROGRAM, STRIKER_PROGRAM, target.c_str(), "--lockstep", "--seconds", "20",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(out[1]);
+  std::string text;
+  char buf[256];
+  ssize_t n;
+  while ((n = read(out[0], buf, sizeof buf)) > 0) text.append(buf, size_t(n));
+  close(out[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  const size_t at = text.find("done: ");
+  ASSERT_NE(at, std::string::npos) << text;
+  double seconds = 0, closest = 0;
+  unsigned kicks = 0;
+  ASSERT_EQ(std::sscanf(text.c_str() + at, "done: %lf s simulated, kicks %u, closest to the ball %lf m",
+                        &seconds, &kicks, &closest),
+            3)
+      << text;
+  EXPECT_NEAR(seconds, 20.0, 0.011);
+  // It reached the ball (0.36 m: the ball against the kicker plate) and
+  // kicked it, with seven other players in the game.
+  EXPECT_LT(closest, 0.42) << text;
+  EXPECT_GE(kicks, 1u) << text;
 }
 
 }  // namespace

@@ -2,11 +2,14 @@
 // striker (striker.h), printing what it does once a second.
 //
 //   troupe-robocup-striker [HOST[:PORT]] [--robot NAME] [--team blue|yellow]
-//                          [--seconds S] [--pull]
+//                          [--seconds S] [--pull] [--lockstep]
 //
-// --pull asks for each update instead of having data pushed. It stops
-// after S seconds of simulated time (default: run until interrupted or the
-// connection is lost for good).
+// --pull asks for each update instead of having data pushed. --lockstep
+// pauses the simulator and steps it one cycle per decision, so a run
+// repeats exactly. It stops after S seconds of simulated time (default: run
+// until interrupted or the connection is lost for good) and prints a
+// summary line.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,7 +25,7 @@ int main(int argc, char** argv) {
   host.host = "127.0.0.1";
   examples::StrikerOptions options;
   double seconds = 0;
-  bool pull = false;
+  bool pull = false, lockstep = false;
   std::string error;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -40,12 +43,14 @@ int main(int argc, char** argv) {
       seconds = std::atof(argv[++i]);
     } else if (arg == "--pull") {
       pull = true;
+    } else if (arg == "--lockstep") {
+      lockstep = true;
     } else if (arg[0] != '-' && wire::parse_host(arg, host, error)) {
       continue;
     } else {
       std::fprintf(stderr,
                    "usage: troupe-robocup-striker [HOST[:PORT]] [--robot NAME] [--team blue|yellow] "
-                   "[--seconds S] [--pull]\n%s%s",
+                   "[--seconds S] [--pull] [--lockstep]\n%s%s",
                    error.c_str(), error.empty() ? "" : "\n");
       return 2;
     }
@@ -70,16 +75,30 @@ int main(int argc, char** argv) {
   std::printf("driving %s (team %s) on %s; simulated time %.2f s\n", options.robot.c_str(),
               options.team == client::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
               double(sim.sim_time_us()) * 1e-6);
+  if (lockstep && !sim.pause()) {
+    std::fprintf(stderr, "troupe-robocup-striker: cannot pause the simulator: %s\n", client.error().c_str());
+    return 1;
+  }
   uint64_t next_report_us = 0;
   int disconnected_ticks = 0;
+  double closest = INFINITY;
   while (true) {
+    if (lockstep) {
+      // One cycle, then everything it published has arrived.
+      if (!sim.step(1) || !client.sync()) {
+        std::fprintf(stderr, "troupe-robocup-striker: step: %s\n", client.error().c_str());
+        return 1;
+      }
+    }
     if (pull) {
       if (!striker.sensors().update()) std::fprintf(stderr, "pull: %s\n", client.error().c_str());
-      client.spin_once(10);  // one simulator cycle, about
-    } else {
+      if (!lockstep) client.spin_once(10);  // one simulator cycle, about
+    } else if (!lockstep) {
       client.spin_once(20);
     }
     const examples::StrikerAction a = striker.tick();
+    if (lockstep) client.sync();  // the command is in effect before the next step
+    if (const auto d = striker.sensors().feature("ballDistance")) closest = std::min(closest, d->value);
     const uint64_t now = sim.sim_time_us();
     if (now >= next_report_us) {
       char ball[32] = "unseen";
@@ -99,5 +118,8 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  std::printf("done: %.2f s simulated, kicks %u, closest to the ball %.2f m, score blue %u yellow %u\n",
+              double(sim.sim_time_us()) * 1e-6, striker.kicks(), closest, sim.game().score_blue,
+              sim.game().score_yellow);
   return 0;
 }
