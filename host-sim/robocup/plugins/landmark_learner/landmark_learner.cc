@@ -126,8 +126,8 @@ class LandmarkLearner final : public PlayerPlugin {
     if (std::fclose(f) != 0) {
       std::fprintf(stderr, "landmark_learner: writing %s failed\n", out_.c_str());
     } else {
-      std::fprintf(stderr, "landmark_learner: %s: %d x %d positions x %d headings, %zu landmarks\n", out_.c_str(),
-                   nx_, ny_, headings_, codes_.size());
+      std::fprintf(stderr, "landmark_learner: %s: %d x %d positions x %d headings, %zu landmarks\n",
+                   out_.c_str(), nx_, ny_, headings_, codes_.size());
     }
   }
 
