@@ -6,7 +6,7 @@ set(BOARD_TOOLCHAIN native)
 set(BOARD_BUILD_TYPE Release)
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_DRIVERS
-  # passthrough  (arrives with the offload work)
+  passthrough
   mcl
   fusion
   logreplay

@@ -9,6 +9,7 @@ set(BOARD_DRIVERS
   mapfile
   mcl
   fusion
+  passthrough
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

@@ -73,6 +73,18 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     : map_(&map), params_(params) {
   double cap_cells = params.max_distance / map.resolution();
   std::vector<float> d2 = squared_distance_transform(map, CellState::Occupied, cap_cells);
+  if (params.surface) {
+    // Distances to the surface between occupied and free space, from either
+    // side: half a cell less than centre to centre outside an obstacle, and
+    // inside it, the distance to the nearest free cell less half a cell.
+    std::vector<float> to_free = squared_distance_transform(map, CellState::Free, cap_cells + 1);
+    const double cap2 = cap_cells * cap_cells;
+    for (size_t i = 0; i < d2.size(); ++i) {
+      bool inside = map.cells()[i] == uint8_t(CellState::Occupied);
+      double d = std::max(0.0, std::sqrt(double(inside ? to_free[i] : d2[i])) - 0.5);
+      d2[i] = float(std::min(d * d, cap2));
+    }
+  }
   dist_.resize(d2.size());
   log_p_.resize(d2.size());
   for (size_t i = 0; i < d2.size(); ++i) {

@@ -23,6 +23,17 @@ struct LikelihoodFieldParams {
   /// Distances beyond this count as this far: the Gaussian is negligible
   /// there and the transform stays cheap, m.
   double max_distance = 2.0;
+  /// Distances are measured to the surface between occupied and free
+  /// cells, from both sides: an endpoint inside an obstacle counts its depth.
+  /// Off (the classic field: centre to centre, 0 anywhere inside), every
+  /// cell of a thick wall is a perfect hit and a beam ending in the wall cell
+  /// beats one ending in front of it, so the belief slides towards the walls
+  /// the laser faces: a bias along the direction of travel (bench_mcl_sim:
+  /// 6 cm with 0.2 m walls on a 0.05 m map, 0.7 cm with the surface field).
+  /// Maps drawn from scan endpoints (one-cell walls, the ACES log) gain
+  /// nothing and lose a little sharpness, so the classic field stays the
+  /// default.
+  bool surface = false;
 };
 
 class LikelihoodField {
@@ -33,7 +44,8 @@ class LikelihoodField {
 
   /// The likelihood density of a beam ending at map point (x, y) (m), 1/m:
   /// z_hit * N(d; 0, sigma_hit) + z_rand / max_range, with d the distance
-  /// from the endpoint's cell centre to the nearest occupied cell centre.
+  /// from the endpoint's cell centre to the nearest occupied cell centre
+  /// (with `surface`: to the obstacle's surface, see above).
   double likelihood(double x, double y) const { return std::exp(double(log_likelihood(x, y))); }
   /// Its natural logarithm: what the filter sums over beams.
   float log_likelihood(double x, double y) const {

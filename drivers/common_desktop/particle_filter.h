@@ -128,6 +128,10 @@ class ParticleFilter {
   bool update(const Pose2& odom, const PoseLikelihood& measurement, Rng& rng);
   /// Moves the particles by odometry only (no scan at this instant).
   void predict(const Pose2& odom, Rng& rng);
+  /// Forgets the previous odometry pose: the next update() or predict()
+  /// only records its pose. For an odometry source that restarted (a robot
+  /// rebooted), whose new poses have no relation to the old ones.
+  void reset_odometry() { has_odom_ = false; }
   /// Runs the next update() even if the robot has not moved.
   void force_update() { force_update_ = true; }
 

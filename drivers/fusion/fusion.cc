@@ -103,11 +103,25 @@ void Fusion::on_outcome(Outcome o, const char* what) {
   }
 }
 
+// An odometry clock this far behind the filter's means the source restarted, s.
+constexpr double kRestartS = 1.0;
+
 void Fusion::on_data(DeviceId source, const wire::Message& data) {
   double t = double(wire::time_us(*data.header())) * 1e-6;
   if (source == odom_in_) {
     const wire::Position2dState* s = data.body_as_Position2dState();
     if (s == nullptr || s->pose() == nullptr) return;
+    if (ekf_->ready() && t + kRestartS < ekf_->time_s()) {
+      // The robot restarted (its clock went back, e.g. a simulator run
+      // again): the belief carries over to its new clock, or every input
+      // would be "older than the history" until the clock caught up.
+      const desktop::PoseEkf::State x = ekf_->state();
+      const Eigen::Matrix3d cov = ekf_->covariance().topLeftCorner<3, 3>();
+      double back_s = ekf_->time_s() - t;
+      ekf_->reset(t, {x(0), x(1), x(2)}, cov);
+      log_info("%s: odometry clock went back %.1f s (source restarted); continuing from the current belief",
+               name_.c_str(), back_s);
+    }
     Outcome o = ekf_->add_odometry(t, {s->pose()->x(), s->pose()->y(), s->pose()->a()});
     on_outcome(o, "odometry");
     if (o == Outcome::Applied || o == Outcome::AppliedLate) publish(t);

@@ -75,6 +75,7 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
   p.bin_a = opt->bin_a();
   p.motion = {opt->rot_rot(), opt->rot_trans(), opt->trans_trans(), opt->trans_rot()};
   p.sensor.sigma_hit = opt->sigma_hit();
+  p.sensor.surface = opt->surface_field();
   p.sensor.z_hit = opt->z_hit();
   p.sensor.z_rand = opt->z_rand();
   p.sensor.max_distance = opt->max_distance();
@@ -240,7 +241,11 @@ void Mcl::on_odometry(const wire::Message& data) {
   if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.a)) return;
   uint64_t t = wire::time_us(*data.header());
   if (odom_count_ > 0 && t < odom_[(odom_head_ + kOdomHistory - 1) % kOdomHistory].time_us) {
-    odom_count_ = 0;  // the source restarted: older samples no longer belong
+    // The source restarted (its clock went back): older samples no longer
+    // belong, and its poses start from a new origin.
+    odom_count_ = 0;
+    if (filter_) filter_->reset_odometry();
+    log_info("%s: odometry restarted; continuing from the current belief", name_.c_str());
   }
   odom_[odom_head_] = {t, pose};
   odom_head_ = (odom_head_ + 1) % kOdomHistory;

@@ -88,5 +88,14 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(runner.port()));
   }
+  // The emulated devices, one "ROBOT DEVICE PATH" line each, for scripts.
+  if (!runner.emulation().empty()) {
+    std::fputs(runner.emulation().info().c_str(), stdout);
+    std::fflush(stdout);
+    for (const auto& d : runner.emulation().devices()) {
+      troupe::log_info("robot %s emulated as %s hardware on %s", d.robot_name.c_str(),
+                       troupe::sim::emulated_kind_name(d.kind), d.path.c_str());
+    }
+  }
   return runner.run();
 }

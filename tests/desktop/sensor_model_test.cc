@@ -77,6 +77,31 @@ TEST(SensorModel, ScanLikelihoodIsTheSumOverUsedBeams) {
   EXPECT_NEAR(filter.log_likelihood({0.55, 1.05, 0}, scan3), on + side, 1e-5);
 }
 
+// The surface field: distances to the boundary between occupied and free
+// cells, from both sides, so a beam that ends half a cell short of a wall
+// and one that ends half a cell inside it are equally likely. A wall four
+// cells thick (columns 10 to 13) across a 20 x 20 map of 0.1 m cells.
+TEST(SensorModel, SurfaceFieldMeasuresFromTheWallSurfaceOnBothSides) {
+  OccupancyGrid map(20, 20, 0.1, {0, 0, 0}, CellState::Free);
+  for (uint32_t r = 0; r < 20; ++r) {
+    for (uint32_t c = 10; c <= 13; ++c) map.set(c, r, CellState::Occupied);
+  }
+  LikelihoodFieldParams p = params();
+  p.surface = true;
+  LikelihoodField field(map, p);
+  EXPECT_NEAR(field.distance(9, 5), 0.05, 1e-6);   // free, next to the wall: half a cell
+  EXPECT_NEAR(field.distance(10, 5), 0.05, 1e-6);  // the wall's surface cell: half a cell deep
+  EXPECT_NEAR(field.distance(7, 5), 0.25, 1e-6);   // three cells out
+  EXPECT_NEAR(field.distance(11, 5), 0.15, 1e-6);  // inside: 2 cells to free space at column 9
+  EXPECT_NEAR(field.distance(12, 5), 0.15, 1e-6);  // and 2 cells to column 14
+  EXPECT_EQ(field.log_likelihood(0.95, 0.55), field.log_likelihood(1.05, 0.55));
+  // The classic field calls the whole wall a perfect hit.
+  p.surface = false;
+  LikelihoodField classic(map, p);
+  EXPECT_NEAR(classic.distance(12, 5), 0.0, 1e-6);
+  EXPECT_NEAR(classic.distance(9, 5), 0.1, 1e-6);
+}
+
 TEST(SensorModel, DistanceTransformIsExact) {
   // Random obstacles; compare with the nearest obstacle found by brute force.
   OccupancyGrid g(37, 23, 1.0, {}, CellState::Free);

@@ -58,7 +58,8 @@ std::string to_json(const wire::Message& msg) {
   append(out, "{\"addr\": {\"robot\": %u, \"iface\": \"%s\", \"index\": %u}, ", unsigned(h.addr().robot()),
          std::string(wire::interface_name(h.addr().iface())).c_str(), unsigned(h.addr().index()));
   append(out, "\"kind\": \"%s\", \"subtype\": %u, \"seq\": %u, \"time_us\": %" PRIu64 ", ",
-         std::string(wire::kind_name(h.kind())).c_str(), unsigned(h.subtype()), unsigned(h.seq()), wire::time_us(h));
+         std::string(wire::kind_name(h.kind())).c_str(), unsigned(h.subtype()), unsigned(h.seq()),
+         wire::time_us(h));
   const char* type = wire::is_known_body(msg.body_type()) ? wire::EnumNameBody(msg.body_type()) : "unknown";
   append(out, "\"body_type\": \"%s\", \"body\": ", type);
   return out + body_json(msg) + "}";
@@ -166,17 +167,33 @@ std::string summary(const wire::Message& msg) {
     }
     case wire::Body::SimClock: {
       auto* s = msg.body_as_SimClock();
-      append(out, " sim_time=%.3f steps=%" PRIu64 " paused=%d speed=%.2f rtf=%.2f", double(s->sim_time_us()) / 1e6,
-             uint64_t(s->steps()), int(s->paused()), double(s->speed()), double(s->real_time_factor()));
+      append(out, " sim_time=%.3f steps=%" PRIu64 " paused=%d speed=%.2f rtf=%.2f",
+             double(s->sim_time_us()) / 1e6, uint64_t(s->steps()), int(s->paused()), double(s->speed()),
+             double(s->real_time_factor()));
+      return out;
+    }
+    case wire::Body::OpaqueBytes: {
+      // Text (a passthrough's status, a JSON note between clients) reads
+      // better as text than as a list of numbers.
+      auto* o = msg.body_as_OpaqueBytes();
+      bool text = o->bytes() != nullptr && o->bytes()->size() > 0;
+      for (size_t i = 0; text && i < o->bytes()->size(); ++i) {
+        uint8_t c = o->bytes()->Get(flatbuffers::uoffset_t(i));
+        text = c >= 0x20 && c < 0x7f;
+      }
+      if (!text) break;
+      out += " text=";
+      out.append(reinterpret_cast<const char*>(o->bytes()->data()), o->bytes()->size());
       return out;
     }
     default:
-      out += " ";
-      out += wire::EnumNameBody(msg.body_type());
-      out += " ";
-      out += body_json(msg);
-      return out;
+      break;
   }
+  out += " ";
+  out += wire::EnumNameBody(msg.body_type());
+  out += " ";
+  out += body_json(msg);
+  return out;
 }
 
 }  // namespace troupe::cli
