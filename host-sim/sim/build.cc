@@ -164,6 +164,7 @@ void Engine::build_robot(const RobotDesc& r) {
   b.poly_count = uint32_t(polys.size()) - b.poly_first;
   b.obstacle = r.look.obstacle;
   b.ranger_visible = r.look.ranger_return >= 0;
+  b.ranger_return = float(std::max(0.0, r.look.ranger_return));
   bodies.push_back(b);
 
   Kinematics k;

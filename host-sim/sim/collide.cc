@@ -44,7 +44,8 @@ bool Engine::hits_static(RobotId i, const Pose& from, const Pose& to) {
   const double travel =
       std::hypot(to.x - from.x, to.y - from.y) + std::fabs(wrap_angle(to.a - from.a)) * b.radius;
   // Far from every occupied cell: nothing to test.
-  if (map.clearance({from.x, from.y}) > b.radius + travel) return false;
+  const double need = b.radius + travel;
+  if (map.clearance({from.x, from.y}, need) > need) return false;
   // Sub-steps no longer than a cell, so no wall is jumped over (up to a
   // cap that only absurd speeds reach: thousands of cells in one step).
   const int n = int(std::clamp(std::ceil(travel / map.resolution()), 1.0, 4096.0));

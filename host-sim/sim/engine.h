@@ -32,6 +32,9 @@ struct Body {
   Command cmd;
   double radius = 0;  // m, bounding circle about `pose`
   uint32_t poly_first = 0, poly_count = 0;
+  // The intensity its outline returns to rangers (0..1): here, beside what
+  // a ray test reads, not in the large RobotDesc.
+  float ranger_return = 1;
   bool moved = false;     // proposed differs from pose
   bool stalled = false;   // the last move was refused
   bool disabled = false;  // battery empty
@@ -135,6 +138,8 @@ struct Engine {
   // ranger.cc
   void update_rangers();
   void update_ranger(uint32_t index);
+  /// Starts loading what update_ranger() will read for the robot `item`.
+  void prefetch_rangers(const SpatialHash::Item& item) const;
   /// Distance along a ray to robot j's outline, m; negative when missed.
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
   /// The static model owning the occupied cell at `p` (smallest box wins).

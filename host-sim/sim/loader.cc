@@ -276,7 +276,8 @@ void Loader::check_grid_size(const Entity& w, const WorldDesc& out) {
     hi = {std::max(hi.x, s.pose.x + r), std::max(hi.y, s.pose.y + r)};
   }
   if (out.statics.empty()) return;
-  const double cells = ((hi.x - lo.x) / out.resolution + 4) * ((hi.y - lo.y) / out.resolution + 4);
+  // The grid is stored in blocks of 8 x 8 cells: up to 7 more each way.
+  const double cells = ((hi.x - lo.x) / out.resolution + 12) * ((hi.y - lo.y) / out.resolution + 12);
   if (cells > kMaxGridCells) {
     const Property* res = w.find("resolution");
     diags().error(res ? res->loc : w.loc, "the obstacle grid would need " + std::to_string(int64_t(cells)) +

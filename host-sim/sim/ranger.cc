@@ -4,6 +4,7 @@
 // only where they could be nearer than the wall already found.
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "host-sim/sim/engine.h"
 
@@ -42,12 +43,28 @@ const StaticInfo* Engine::static_at(Vec2 p) const {
   return best;
 }
 
+void Engine::prefetch_rangers(const SpatialHash::Item& item) const {
+  const IndexRange r = robot_rangers[item.index];
+  for (uint32_t k = r.first; k < r.first + r.count; ++k) __builtin_prefetch(&rangers[k]);
+  __builtin_prefetch(&bodies[item.index]);
+  map.prefetch({item.x, item.y}, item.r);
+}
+
 void Engine::update_rangers() {
   // Robot by robot in the hash's cell order, so consecutive rays read
   // nearby parts of the grid (a large map does not fit in cache). Each
   // ranger's result depends only on the world, not on this order.
-  for (const SpatialHash::Item& item : hash.order()) {
-    const IndexRange r = robot_rangers[item.index];
+  //
+  // The robots' own records are stored by robot number, so in this order
+  // each is a fresh cache miss on a large swarm: they are fetched a few
+  // robots ahead (the robot numbers themselves further ahead still), so
+  // their latency overlaps the rays of the robots before them.
+  constexpr size_t kAhead = 4;
+  const std::span<const SpatialHash::Item> order = hash.order();
+  for (size_t n = 0; n < order.size(); ++n) {
+    if (n + 2 * kAhead < order.size()) __builtin_prefetch(&robot_rangers[order[n + 2 * kAhead].index]);
+    if (n + kAhead < order.size()) prefetch_rangers(order[n + kAhead]);
+    const IndexRange r = robot_rangers[order[n].index];
     for (uint32_t k = r.first; k < r.first + r.count; ++k) {
       if (rangers[k].wanted) update_ranger(k);
     }
@@ -160,7 +177,7 @@ void Engine::update_ranger(uint32_t index) {
         const double hit = ray_robot(cand.index, q.origin, q.dir);
         if (hit >= 0 && hit < r) {
           r = float(hit);
-          inten[first + uint32_t(s)] = float(std::max(0.0, desc.robots[cand.index].look.ranger_return));
+          inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
         }
       }
     }
@@ -171,6 +188,11 @@ void Engine::update_ranger(uint32_t index) {
     const Transducer& td = transducers[t];
     float* r = out + td.beam_offset;
     const uint64_t beam = rs.beam_first + td.beam_offset;  // world-wide index: the noise counter
+    if (td.noise_prop <= 0 && td.noise_sd <= 0) {
+      // No noise: only the limits (the loop below does the same, slower).
+      for (uint32_t s = 0; s < td.samples; ++s) r[s] = std::max(std::min(r[s], td.range_max), td.range_min);
+      continue;
+    }
     for (uint32_t s = 0; s < td.samples; ++s) {
       if (r[s] < td.range_max) {
         double v = r[s];

@@ -17,8 +17,10 @@ namespace troupe::sim {
 
 namespace detail {
 // raycast_avx2.cc, on x86-64.
-void cast_batch_avx2(const uint8_t* codes, int w, int h, Vec2 origin, double inv_res, double res,
-                     std::span<const RayQuery> rays, uint8_t mask, float* out);
+// `codes` in blocks (StaticMap::index), `blocks_w` blocks per row; `coarse`
+// (a code per block) may be null: then it is not used.
+void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
+                     double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out);
 }  // namespace detail
 
 namespace {
@@ -84,13 +86,16 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
     return;
   }
 #if defined(TROUPE_HAVE_AVX2)
-  // Twelve rays in registers at once, when the processor has AVX2.
-  static const bool kAvx2 = __builtin_cpu_supports("avx2");
-  if (kAvx2) return detail::cast_batch_avx2(codes_.data(), w_, h_, origin_, inv_res_, res_, rays, mask, out);
+  // Sixteen rays in registers at once, when the processor has AVX2 (and
+  // FMA, which every AVX2 processor but a few early ones has).
+  static const bool kAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (kAvx2) {
+    return detail::cast_batch_avx2(codes_.data(), use_coarse_ ? coarse_.data() : nullptr, blocks_w_, w_, h_,
+                                   origin_, inv_res_, res_, rays, mask, out);
+  }
 #endif
   constexpr int kLanes = 8;
   const uint8_t* g = codes_.data();
-  const size_t w = size_t(w_);
   const float res = float(res_);
   const float inner_x = float(w_) - kEdgeMargin, inner_y = float(h_) - kEdgeMargin;
   size_t next = 0;
@@ -101,7 +106,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
   auto start = [&](Ray& r) {
     while (next < rays.size()) {
       const RayQuery& q = rays[next];
-      const int index = int(next++);
+      const int slot = int(next++);
       r.ox = float((q.origin.x - origin_.x) * inv_res_);
       r.oy = float((q.origin.y - origin_.y) * inv_res_);
       r.dx = float(q.dir.x);
@@ -113,14 +118,14 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
       const bool inside = r.ox >= 0 && r.oy >= 0 && r.ox < inner_x && r.oy < inner_y && ex >= 0 && ey >= 0 &&
                           ex < inner_x && ey < inner_y;
       if (!inside && !clip(r.ox, r.oy, r.dx, r.dy, r.t, r.t_end)) {
-        out[index] = q.max_range;
+        out[slot] = q.max_range;
         continue;
       }
       if (inside) {
         if (r.ox != shared_ox || r.oy != shared_oy) {
           shared_ox = r.ox;
           shared_oy = r.oy;
-          shared_step = kStep[g[size_t(r.oy) * w + size_t(r.ox)]];
+          shared_step = kStep[g[index(int(r.ox), int(r.oy))]];
         }
         r.t = std::min(shared_step, r.t_end);
       }
@@ -130,7 +135,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
       r.delta_y = std::fabs(r.inv_dy);
       r.step_x = r.dx >= 0 ? 1 : -1;
       r.step_y = r.dy >= 0 ? 1 : -1;
-      r.index = index;
+      r.index = slot;
       r.walking = false;
       return true;
     }
@@ -142,7 +147,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
     if (!r.walking) {
       const float px = r.ox + r.t * r.dx, py = r.oy + r.t * r.dy;
       const int ix = int(px), iy = int(py);  // clipped: px, py >= 0, so this is floor
-      const uint8_t c = g[size_t(iy) * w + size_t(ix)];
+      const uint8_t c = g[index(ix, iy)];
       if (c >= kMarchFrom) {
         r.t += kStep[c];
         if (r.t < r.t_end) return false;
@@ -189,7 +194,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
       result = r.max_range;
       return true;
     }
-    const uint8_t c = g[size_t(r.iy) * w + size_t(r.ix)];
+    const uint8_t c = g[index(r.ix, r.iy)];
     if (is_hit(c, mask)) {
       result = r.entry * res;
       return true;
@@ -233,7 +238,7 @@ float StaticMap::cast_per_cell(Vec2 origin, Vec2 dir, float max_range, uint8_t m
   float next_y = dy > 0 ? t + (float(iy + 1) - py) * inv_dy : (dy < 0 ? t + (float(iy) - py) * inv_dy : kFar);
   float entry = t;
   while (true) {
-    uint8_t c = codes_[size_t(iy) * size_t(w_) + size_t(ix)];
+    uint8_t c = codes_[index(ix, iy)];
     if (is_hit(c, mask)) return float(entry * res_);
     if (next_x < next_y) {
       entry = next_x;

@@ -36,9 +36,14 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
   origin_ = lo;
   w_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_res_)));
   h_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_res_)));
-  // Four bytes more than the cells: the vector caster reads a cell as the
+  // Whole blocks (the cells past the grid's edges stay free and are never
+  // reached), and four bytes more: the vector caster reads a cell as the
   // low byte of a 32-bit load.
-  codes_.assign(size_t(w_) * size_t(h_) + 4, kFree);
+  blocks_w_ = (w_ + kTile - 1) >> kTileShift;
+  const size_t blocks_h = size_t((h_ + kTile - 1) >> kTileShift);
+  codes_.assign((size_t(blocks_w_) * blocks_h << (2 * kTileShift)) + 4, kFree);
+  coarse_.clear();
+  use_coarse_ = false;
 }
 
 void StaticMap::mark(size_t i, bool obstacle, bool visible) {
@@ -60,7 +65,7 @@ void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
   ix1 = std::min(ix1, w_ - 1);
   iy1 = std::min(iy1, h_ - 1);
   for (int iy = iy0; iy <= iy1; ++iy) {
-    for (int ix = ix0; ix <= ix1; ++ix) mark(size_t(iy) * size_t(w_) + size_t(ix), obstacle, visible);
+    for (int ix = ix0; ix <= ix1; ++ix) mark(index(ix, iy), obstacle, visible);
   }
 }
 
@@ -78,7 +83,7 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
     int ix0 = std::max(0, int(std::floor(xa + kEdgeSlack)));
     int ix1 =
         std::min(w_ - 1, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
-    for (int ix = ix0; ix <= ix1; ++ix) mark(size_t(iy) * size_t(w_) + size_t(ix), obstacle, visible);
+    for (int ix = ix0; ix <= ix1; ++ix) mark(index(ix, iy), obstacle, visible);
   };
   int row0 = std::max(0, int(std::floor(ymin + kEdgeSlack)));
   int row1 = std::min(h_ - 1, int(std::ceil(ymax - kEdgeSlack)) - 1);
@@ -113,7 +118,7 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
     for (size_t k = 0; k + 1 < xs.size(); k += 2) {
       int ix0 = std::max(0, int(std::ceil(xs[k] - 0.5)));
       int ix1 = std::min(w_ - 1, int(std::floor(xs[k + 1] - 0.5)));
-      for (int ix = ix0; ix <= ix1; ++ix) mark(size_t(iy) * size_t(w_) + size_t(ix), obstacle, visible);
+      for (int ix = ix0; ix <= ix1; ++ix) mark(index(ix, iy), obstacle, visible);
     }
   }
 }
@@ -125,11 +130,10 @@ void StaticMap::finish() {
   const size_t w = size_t(w_), h = size_t(h_);
   std::vector<uint8_t> g(w * h);
   for (size_t y = 0; y < h; ++y) {
-    const uint8_t* row = &codes_[y * w];
     uint8_t* gr = &g[y * w];
     const uint8_t* above = y > 0 ? &g[(y - 1) * w] : nullptr;
     for (size_t x = 0; x < w; ++x) {
-      gr[x] = row[x] <= kBarrier ? 0 : (above ? uint8_t(std::min(255, above[x] + 1)) : 255);
+      gr[x] = code(int(x), int(y)) <= kBarrier ? 0 : (above ? uint8_t(std::min(255, above[x] + 1)) : 255);
     }
   }
   for (size_t y = h - 1; y-- > 0;) {
@@ -140,7 +144,6 @@ void StaticMap::finish() {
   std::vector<double> f(w), z(w + 1);
   std::vector<int> v(w);
   for (size_t y = 0; y < h; ++y) {
-    uint8_t* row = &codes_[y * w];
     const uint8_t* gr = &g[y * w];
     for (size_t x = 0; x < w; ++x) f[x] = double(gr[x]) * double(gr[x]);
     int k = 0;
@@ -165,11 +168,36 @@ void StaticMap::finish() {
     k = 0;
     for (int q = 0; q < w_; ++q) {
       while (z[size_t(k) + 1] < q) ++k;
-      if (row[q] <= kBarrier) continue;
+      uint8_t& cell = codes_[index(q, int(y))];
+      if (cell <= kBarrier) continue;
       int p = v[size_t(k)];
       double d2 = double(q - p) * (q - p) + f[size_t(p)];
       double d = std::floor(std::sqrt(d2) + 1e-9);
-      row[q] = uint8_t(kFreeBase + std::min(d, 253.0));
+      cell = uint8_t(kFreeBase + std::min(d, 253.0));
+    }
+  }
+  // The coarse level: a byte per block, four bytes longer for the vector
+  // caster's loads.
+  constexpr size_t kBlockCells = size_t(1) << (2 * kTileShift);
+  const size_t blocks = (codes_.size() - 4) / kBlockCells;
+  coarse_.assign(blocks + 4, kFree);
+  for (size_t b = 0; b < blocks; ++b) {
+    const uint8_t* cells = &codes_[b * kBlockCells];
+    coarse_[b] = *std::min_element(cells, cells + kBlockCells);
+  }
+  use_coarse_ = w * h >= kCoarseFromCells;
+}
+
+void StaticMap::prefetch(Vec2 p, double r) const {
+  const double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_, ru = r * inv_res_;
+  if (!(u - ru >= 0 && v - ru >= 0 && u + ru < w_ && v + ru < h_)) return;  // near the edge: not worth it
+  const int bx0 = int(u - ru) >> kTileShift, bx1 = std::min(int(u + ru) >> kTileShift, bx0 + 2);
+  const int by0 = int(v - ru) >> kTileShift, by1 = std::min(int(v + ru) >> kTileShift, by0 + 2);
+  for (int by = by0; by <= by1; ++by) {
+    for (int bx = bx0; bx <= bx1; ++bx) {
+      const size_t block = size_t(by) * size_t(blocks_w_) + size_t(bx);
+      if (use_coarse_) __builtin_prefetch(&coarse_[block]);
+      __builtin_prefetch(&codes_[block << (2 * kTileShift)]);
     }
   }
 }
@@ -188,9 +216,8 @@ bool StaticMap::overlaps(std::span<const Vec2> poly, uint8_t mask) const {
   int iy0 = std::max(0, int(std::floor((ymin - origin_.y) * inv_res_)));
   int iy1 = std::min(h_ - 1, int(std::floor((ymax - origin_.y) * inv_res_)));
   for (int iy = iy0; iy <= iy1; ++iy) {
-    const uint8_t* row = &codes_[size_t(iy) * size_t(w_)];
     for (int ix = ix0; ix <= ix1; ++ix) {
-      uint8_t c = row[ix];
+      uint8_t c = code(ix, iy);
       if (c > kBarrier || !((mask >> c) & 1u)) continue;
       Vec2 lo{origin_.x + ix * res_, origin_.y + iy * res_};
       if (polygon_overlaps_box(poly, lo, {lo.x + res_, lo.y + res_})) return true;
@@ -212,11 +239,19 @@ bool StaticMap::segment_hits(Vec2 a, Vec2 b, uint8_t mask) const {
   return cast(a, (1.0 / len) * d, float(len), mask) < float(len);
 }
 
-double StaticMap::clearance(Vec2 p) const {
+double StaticMap::clearance(Vec2 p, double enough) const {
   double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_;
   if (u < 0 || v < 0 || u >= w_ || v >= h_) {
     double ex = std::max({0.0, -u, u - w_}), ey = std::max({0.0, -v, v - h_});
     return std::hypot(ex, ey) * res_;
+  }
+  // A block's code is its smallest cell's: the same bound holds anywhere in
+  // the block.
+  if (use_coarse_) {
+    const uint8_t b =
+        coarse_[size_t(int(v) >> kTileShift) * size_t(blocks_w_) + size_t(int(u) >> kTileShift)];
+    const double bound = std::max(0.0, (double(b) - kFreeBase - 1.4143) * res_);
+    if (bound > enough) return bound;
   }
   uint8_t c = code(int(u), int(v));
   if (c <= kBarrier) return 0;

@@ -5,6 +5,13 @@
 // cell by cell (Amanatides-Woo) only near obstacles, so a ray costs a few
 // lookups instead of one per cell, and finds exactly the cell a plain per-cell
 // walk finds.
+//
+// The cells are stored in blocks of 8 x 8 (64 bytes, one cache line each),
+// blocks in rows: a ray's next few cells, in whatever direction it goes,
+// are mostly in the line it is already reading, where a row-major layout
+// puts every row in a line of its own. A map of a large swarm (tens of
+// megabytes) does not fit in the caches, so lines read are what a ray
+// costs there.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +19,7 @@
 #include <vector>
 
 #include "host-sim/sim/geometry.h"
+#include "host-sim/sim/huge_page_allocator.h"
 
 namespace troupe::sim {
 
@@ -61,6 +69,26 @@ class StaticMap {
   /// Benchmarks only: makes cast() and cast_batch() walk every cell, so a
   /// whole simulation can be timed against the per-cell baseline.
   void set_per_cell(bool on) { per_cell_ = on; }
+  /// Whether cast_batch() looks at the coarse level first (see coarse_).
+  /// finish() turns it on for maps larger than kCoarseFromCells; tests and
+  /// benchmarks may force it either way (the results are the same).
+  void set_coarse(bool on) { use_coarse_ = on; }
+  bool coarse() const { return use_coarse_; }
+  /// A block (a coarse cell, a cache line of cells) is kTile x kTile cells.
+  static constexpr int kTileShift = 3;
+  static constexpr int kTile = 1 << kTileShift;
+  /// Where cell (ix, iy) is stored: its block, then its row in the block.
+  size_t index(int ix, int iy) const {
+    const size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
+    return (block << (2 * kTileShift)) + size_t((iy & (kTile - 1)) << kTileShift) + size_t(ix & (kTile - 1));
+  }
+  /// Maps from this many cells on (4 MiB, about a core's share of the
+  /// mid-level cache) read the coarse level first.
+  static constexpr size_t kCoarseFromCells = size_t(4) << 20;
+
+  /// Starts loading the cells within `r` (m) of `p` (world) into the
+  /// cache, for a cast from there soon after. At most 3 x 3 blocks.
+  void prefetch(Vec2 p, double r) const;
 
   /// True when the polygon (world frame) overlaps a cell whose code is in
   /// `mask`.
@@ -69,18 +97,19 @@ class StaticMap {
   bool segment_hits(Vec2 a, Vec2 b, uint8_t mask = kObstacleMask) const;
 
   /// A lower bound on the distance from `p` to any occupied cell, m (0 inside
-  /// one; large outside the grid's reach).
-  double clearance(Vec2 p) const;
+  /// one; large outside the grid's reach). With the coarse level, the
+  /// block's bound when that is more than `enough` m (the map is not read).
+  double clearance(Vec2 p, double enough = 1e300) const;
 
   int width() const { return w_; }
   int height() const { return h_; }
   double resolution() const { return res_; }
   /// World position of the grid's corner (cell 0, 0 starts there), m.
   Vec2 origin() const { return origin_; }
-  uint8_t code(int ix, int iy) const { return codes_[size_t(iy) * size_t(w_) + size_t(ix)]; }
+  uint8_t code(int ix, int iy) const { return codes_[index(ix, iy)]; }
   bool occupied(int ix, int iy) const { return code(ix, iy) <= kBarrier; }
   /// Bytes held.
-  size_t memory_bytes() const { return codes_.capacity(); }
+  size_t memory_bytes() const { return codes_.capacity() + coarse_.capacity(); }
 
  private:
   void mark(size_t index, bool obstacle, bool visible);
@@ -90,7 +119,16 @@ class StaticMap {
   int w_ = 0, h_ = 0;
   double res_ = 0.02, inv_res_ = 50;
   Vec2 origin_;
-  std::vector<uint8_t> codes_;
+  std::vector<uint8_t, HugePageAllocator<uint8_t>> codes_;
+  // The coarse level: per kTile x kTile block of cells, the smallest code
+  // in it (an occupied code when the block holds an obstacle). Its march
+  // step is safe from anywhere in the block, as a cell's is from anywhere
+  // in the cell, and it is 64 times smaller than the map: on a map that
+  // outgrows the caches, open space is crossed by reading this cached
+  // array, and the map itself is read only near obstacles.
+  std::vector<uint8_t> coarse_;
+  int blocks_w_ = 1;  // blocks per row of blocks
+  bool use_coarse_ = false;
   bool per_cell_ = false;
 };
 

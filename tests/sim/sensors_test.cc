@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <vector>
 
 #include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
@@ -171,23 +172,90 @@ TEST(StaticMap, MarchingFindsTheSameCellAsThePerCellWalk) {
   world::Diagnostics diags;
   auto w = World::load(path, 1, diags);
   ASSERT_TRUE(w) << diags.str();
-  const StaticMap& map = w->map();
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> pos(-8.5, 8.5), ang(-kPi, kPi), range(0.1, 12);
-  int exact = 0;
-  const int n = 20000;
-  for (int i = 0; i < n; ++i) {
-    Vec2 o{pos(rng), pos(rng)};
-    double a = ang(rng);
-    Vec2 dir{std::cos(a), std::sin(a)};
-    float maxr = float(range(rng));
-    float fast = map.cast(o, dir, maxr), slow = map.cast_per_cell(o, dir, maxr);
-    // Both report where the ray enters the same cell; only float rounding
-    // of the restarted walk may differ (a ray through a cell corner).
-    ASSERT_NEAR(fast, slow, map.resolution()) << "ray " << i;
-    exact += std::fabs(fast - slow) < 1e-4;
+  // simple.world's map is small enough to be read without the coarse
+  // level; a copy reads it first, as a large map would.
+  StaticMap coarse = w->map();
+  ASSERT_FALSE(coarse.coarse());
+  coarse.set_coarse(true);
+  for (const StaticMap* map : {&w->map(), static_cast<const StaticMap*>(&coarse)}) {
+    SCOPED_TRACE(map->coarse() ? "coarse level" : "map only");
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> pos(-8.5, 8.5), ang(-kPi, kPi), range(0.1, 12);
+    int exact = 0;
+    const int n = 20000;
+    std::vector<RayQuery> batch;
+    std::vector<float> slow;
+    for (int i = 0; i < n; ++i) {
+      Vec2 o{pos(rng), pos(rng)};
+      double a = ang(rng);
+      Vec2 dir{std::cos(a), std::sin(a)};
+      float maxr = float(range(rng));
+      float fast = map->cast(o, dir, maxr);
+      slow.push_back(map->cast_per_cell(o, dir, maxr));
+      batch.push_back({o, dir, maxr});
+      // Both report where the ray enters the same cell; only float rounding
+      // of the restarted walk may differ (a ray through a cell corner).
+      ASSERT_NEAR(fast, slow.back(), map->resolution()) << "ray " << i;
+      exact += std::fabs(fast - slow.back()) < 1e-4;
+    }
+    EXPECT_GE(exact, n - n / 1000);
+    // All at once, as a laser casts them: the same within a cell.
+    std::vector<float> out(batch.size());
+    map->cast_batch(batch, StaticMap::kRangerMask, out.data());
+    for (int i = 0; i < n; ++i)
+      ASSERT_NEAR(out[size_t(i)], slow[size_t(i)], map->resolution()) << "ray " << i;
   }
-  EXPECT_GE(exact, n - n / 1000);
+}
+
+TEST(StaticMap, LargeMapsReadTheCoarseLevelAndGetTheSameAnswers) {
+  // 2,200 x 2,200 cells (4.8 M): large enough for the coarse level. Boxes
+  // of seeded sizes and places, a few cells to a few hundred.
+  StaticMap map;
+  map.reset({0, 0}, {22, 22}, 0.01);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> at(0, 22), size(0.02, 2.0);
+  std::vector<std::pair<Vec2, Vec2>> boxes;
+  for (int i = 0; i < 60; ++i) {
+    const Vec2 lo{at(rng), at(rng)};
+    const Vec2 hi{std::min(22.0, lo.x + size(rng)), std::min(22.0, lo.y + 0.1 * size(rng))};
+    boxes.push_back({lo, hi});
+    map.fill_box(lo, hi, true, true);
+  }
+  map.finish();
+  ASSERT_TRUE(map.coarse());
+  // Clearance stays a lower bound on the distance to every box, whether or
+  // not the coarse level answers.
+  for (int i = 0; i < 5000; ++i) {
+    const Vec2 p{at(rng), at(rng)};
+    double nearest = 1e300;
+    for (const auto& [lo, hi] : boxes) {
+      const double dx = std::max({lo.x - p.x, 0.0, p.x - hi.x}), dy = std::max({lo.y - p.y, 0.0, p.y - hi.y});
+      nearest = std::min(nearest, std::hypot(dx, dy));
+    }
+    for (double enough : {0.0, 0.05, 0.5, 1e300}) {
+      ASSERT_LE(map.clearance(p, enough), nearest + 1e-9) << "point " << i << " enough " << enough;
+    }
+  }
+  // The same ranges as the per-cell walk, and as the map without its
+  // coarse level.
+  std::vector<RayQuery> rays;
+  std::uniform_real_distribution<double> ang(-kPi, kPi), range(0.1, 12);
+  for (int i = 0; i < 20000; ++i) {
+    const double a = ang(rng);
+    rays.push_back({{at(rng), at(rng)}, {std::cos(a), std::sin(a)}, float(range(rng))});
+  }
+  std::vector<float> coarse(rays.size()), fine(rays.size());
+  map.cast_batch(rays, StaticMap::kRangerMask, coarse.data());
+  map.set_coarse(false);
+  map.cast_batch(rays, StaticMap::kRangerMask, fine.data());
+  int exact = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const float slow = map.cast_per_cell(rays[i].origin, rays[i].dir, rays[i].max_range);
+    ASSERT_NEAR(coarse[i], slow, map.resolution()) << "ray " << i;
+    ASSERT_NEAR(coarse[i], fine[i], map.resolution()) << "ray " << i;
+    exact += std::fabs(coarse[i] - slow) < 1e-4;
+  }
+  EXPECT_GE(exact, 20000 - 20);
 }
 
 TEST(Fiducial, SeesIdsInRangeAndFovButNotBehindWalls) {

@@ -50,31 +50,35 @@ class Wander final : public sim::Controller {
       error = "wander: the robot has no ranger " + std::to_string(ranger_);
       return false;
     }
-    // Each beam's bearing on the robot, as the ranger spreads its samples.
+    // Each beam's bearing on the robot, as the ranger spreads its samples,
+    // sorted once into the sectors update() looks at.
+    uint32_t beam = 0;
     for (const auto& t : robot.ranger_desc(uint32_t(ranger_)).transducers) {
       const int s = std::max(1, t.samples);
-      for (int i = 0; i < s; ++i) {
-        bearings_.push_back(
-            std::remainder(t.pose.a + (s > 1 ? -t.fov / 2 + t.fov * i / (s - 1) : 0.0), 2 * kPi));
+      for (int i = 0; i < s; ++i, ++beam) {
+        const double b = std::remainder(t.pose.a + (s > 1 ? -t.fov / 2 + t.fov * i / (s - 1) : 0.0), 2 * kPi);
+        if (std::fabs(b) < 35 * kPi / 180) ahead_beams_.push_back(beam);
+        if (b > 0 && b <= kPi / 2) left_beams_.push_back(beam);
+        if (b < 0 && b >= -kPi / 2) right_beams_.push_back(beam);
       }
     }
+    beams_ = beam;
     robot.want(SensorKind::Ranger, uint32_t(ranger_), true);
     return true;
   }
 
   void update(RobotHandle& robot) override {
     const sim::RangerView scan = robot.ranger(uint32_t(ranger_));
-    if (scan.step == UINT64_MAX || scan.ranges.size() != bearings_.size()) {
+    if (scan.step == UINT64_MAX || scan.ranges.size() != beams_) {
       robot.command(Command::velocity(0, 0, 0));  // no data yet
       return;
     }
-    double ahead = 1e9, left = 1e9, right = 1e9;
-    for (size_t i = 0; i < bearings_.size(); ++i) {
-      const double b = bearings_[i], r = scan.ranges[i];
-      if (std::fabs(b) < 35 * kPi / 180) ahead = std::min(ahead, r);
-      if (b > 0 && b <= kPi / 2) left = std::min(left, r);
-      if (b < 0 && b >= -kPi / 2) right = std::min(right, r);
-    }
+    auto nearest = [&](const std::vector<uint32_t>& beams) {
+      double r = 1e9;
+      for (uint32_t i : beams) r = std::min(r, double(scan.ranges[i]));
+      return r;
+    };
+    const double ahead = nearest(ahead_beams_), left = nearest(left_beams_), right = nearest(right_beams_);
     if (avoiding_ > 0 || ahead < avoid_ || robot.state().stalled) {
       if (avoiding_ == 0) {
         direction_ = left > right ? 1.0 : -1.0;
@@ -95,7 +99,10 @@ class Wander final : public sim::Controller {
  private:
   double speed_, turn_, avoid_;
   int ranger_;
-  std::vector<double> bearings_;
+  // The beams (indices into the scan) ahead (within 35 degrees), on the
+  // left and on the right.
+  std::vector<uint32_t> ahead_beams_, left_beams_, right_beams_;
+  size_t beams_ = 0;
   int avoiding_ = 0;
   double direction_ = 1;
   int wiggle_ = 0;
