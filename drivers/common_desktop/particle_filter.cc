@@ -165,8 +165,8 @@ double ParticleFilter::weigh(const ScanView& scan) {
   return std::exp((top + std::log(sum)) / (params_.beam_exponent * double(beams_.size())));
 }
 
-bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
-  // Without a trustworthy odometry pose the scan cannot be placed.
+bool ParticleFilter::begin_update(const Pose2& odom, Rng& rng) {
+  // Without a trustworthy odometry pose the measurement cannot be placed.
   if (!std::isfinite(odom.x) || !std::isfinite(odom.y) || !std::isfinite(odom.a)) return false;
   predict(odom, rng);
   if (particles_.empty()) return false;
@@ -175,11 +175,10 @@ bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
     cluster();  // the particles followed the odometry
     return false;
   }
-  double w_avg = weigh(scan);
-  if (beams_.empty()) {  // nothing to measure with: keep the belief
-    cluster();
-    return false;
-  }
+  return true;
+}
+
+bool ParticleFilter::finish_update(double w_avg, Rng& rng) {
   force_update_ = false;
   moved_since_update_ = {};
   ++updates_;
@@ -196,6 +195,35 @@ bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
     resample(rng);
   }
   return true;
+}
+
+bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
+  if (!begin_update(odom, rng)) return false;
+  double w_avg = weigh(scan);
+  if (beams_.empty()) {  // nothing to measure with: keep the belief
+    cluster();
+    return false;
+  }
+  return finish_update(w_avg, rng);
+}
+
+bool ParticleFilter::update(const Pose2& odom, const PoseLikelihood& measurement, Rng& rng) {
+  if (!begin_update(odom, rng)) return false;
+  const size_t terms = measurement.terms();
+  if (terms == 0) {  // nothing observed: keep the belief
+    cluster();
+    return false;
+  }
+  // As weigh(): in log space, normalised with the maximum subtracted.
+  double top = -std::numeric_limits<double>::infinity();
+  for (Particle& p : particles_) {
+    p.weight = measurement.log_likelihood(p.pose) + std::log(std::max(p.weight, 1e-300));
+    top = std::max(top, p.weight);
+  }
+  double sum = 0;
+  for (Particle& p : particles_) sum += (p.weight = std::exp(p.weight - top));
+  for (Particle& p : particles_) p.weight /= sum;
+  return finish_update(std::exp((top + std::log(sum)) / double(terms)), rng);
 }
 
 void ParticleFilter::resample(Rng& rng) {

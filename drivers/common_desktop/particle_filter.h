@@ -95,6 +95,18 @@ struct ScanView {
   std::span<const float> ranges;  // m
 };
 
+/// A measurement other than a scan (landmarks, fixes): how likely it is
+/// from a pose.
+class PoseLikelihood {
+ public:
+  virtual ~PoseLikelihood() = default;
+  /// log p(measurement | pose); pose in the map frame: m, m, rad.
+  virtual double log_likelihood(const Pose2& pose) const = 0;
+  /// Independent observations it sums (0: nothing to weigh with). The
+  /// recovery averages are kept per observation.
+  virtual size_t terms() const = 0;
+};
+
 class ParticleFilter {
  public:
   /// The map must outlive the filter; the likelihood field is computed here.
@@ -112,6 +124,8 @@ class ParticleFilter {
   /// against `scan` when the robot moved enough. Returns true when a
   /// measurement update ran. `odom` and `scan` must be of the same instant.
   bool update(const Pose2& odom, const ScanView& scan, Rng& rng);
+  /// The same with another kind of measurement of the same instant.
+  bool update(const Pose2& odom, const PoseLikelihood& measurement, Rng& rng);
   /// Moves the particles by odometry only (no scan at this instant).
   void predict(const Pose2& odom, Rng& rng);
   /// Forgets the previous odometry pose: the next update() or predict()
@@ -143,6 +157,10 @@ class ParticleFilter {
   double log_likelihood(const Pose2& pose, const ScanView& scan) const;
 
  private:
+  /// Moves the particles; true when the robot moved enough to weigh them.
+  bool begin_update(const Pose2& odom, Rng& rng);
+  /// After the weights were set: recovery averages, clusters, resampling.
+  bool finish_update(double w_avg, Rng& rng);
   void select_beams(const ScanView& scan);
   double weigh(const ScanView& scan);
   void resample(Rng& rng);

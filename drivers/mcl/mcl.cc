@@ -32,16 +32,20 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
     DeviceId* slot = iface == wire::Interface::Position2d ? &odom_in_
                      : iface == wire::Interface::Ranger   ? &scan_in_
                      : iface == wire::Interface::Map      ? &map_in_
+                     : iface == wire::Interface::Fiducial ? &landmarks_in_
                                                           : nullptr;
     if (slot == nullptr || *slot != kNoDevice) {
       error = "uses " + wire::format_address(node.address(d)) +
-              ": mcl uses one position2d (odometry), one ranger (laser) and one map";
+              ": mcl uses one position2d (odometry), one ranger (laser) or fiducial (landmarks), and one map";
       return false;
     }
     *slot = d;
   }
-  if (odom_in_ == kNoDevice || scan_in_ == kNoDevice || map_in_ == kNoDevice) {
-    error = "mcl needs \"uses\": a position2d (odometry), a ranger (laser) and a map";
+  if (odom_in_ == kNoDevice || (scan_in_ == kNoDevice && landmarks_in_ == kNoDevice) ||
+      (map_in_ == kNoDevice && landmarks_in_ == kNoDevice)) {
+    error =
+        "mcl needs \"uses\": a position2d (odometry), a ranger (laser) and a map; or a position2d and a "
+        "fiducial (landmarks, with landmark_table)";
     return false;
   }
   for (DeviceId d : setup.provides) {
@@ -124,9 +128,20 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
         Eigen::Vector3d(opt->initial_var_xy(), opt->initial_var_xy(), std::max(opt->initial_var_a(), 1e-6f))
             .asDiagonal();
   }
+  if (!setup_landmarks(opt, error)) return false;
   odom_.resize(kOdomHistory);
   node.subscribe(odom_in_, this);
-  node.subscribe(scan_in_, this);
+  if (scan_in_ != kNoDevice) node.subscribe(scan_in_, this);
+  if (landmarks_in_ != kNoDevice) node.subscribe(landmarks_in_, this);
+  if (map_in_ == kNoDevice) {
+    // Landmarks without a map: the table's grid is where the robot can be.
+    const double res = 0.1;
+    const auto w = uint32_t(std::ceil((table_.max_x() - table_.min_x()) / res)) + 1;
+    const auto h = uint32_t(std::ceil((table_.max_y() - table_.min_y()) / res)) + 1;
+    start_filter(
+        desktop::OccupancyGrid(w, h, res, {table_.min_x(), table_.min_y(), 0}, desktop::CellState::Free));
+    return true;
+  }
   // The map is fetched once every driver is set up: its provider may be
   // listed after this one.
   fetch_timer_ = node.loop().start_timer(0, 0, this);
@@ -134,6 +149,36 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
     error = "no timer left";
     return false;
   }
+  return true;
+}
+
+bool Mcl::setup_landmarks(const OptionsView<Options>& opt, std::string& error) {
+  const bool has_table = opt->landmark_table() && opt->landmark_table()->size() > 0;
+  if (!has_table) {
+    if (landmarks_in_ == kNoDevice) return true;
+    error = "uses a fiducial device but landmark_table names no table";
+    return false;
+  }
+  if (landmarks_in_ == kNoDevice) {
+    error = "landmark_table needs a fiducial device (landmark detections) in \"uses\"";
+    return false;
+  }
+  std::string why;
+  if (!table_.load(opt->landmark_table()->str(), why)) {
+    error = "landmark_table: " + why;
+    return false;
+  }
+  desktop::LandmarkModelParams lp;
+  lp.sigma_distance = opt->landmark_sigma_distance();
+  lp.sigma_distance_per_m = opt->landmark_sigma_distance_per_m();
+  lp.sigma_bearing = opt->landmark_sigma_bearing();
+  if (!(lp.sigma_distance > 0) || !(lp.sigma_distance_per_m >= 0) || !(lp.sigma_bearing > 0)) {
+    error =
+        "landmark_sigma_distance and landmark_sigma_bearing must be > 0, landmark_sigma_distance_per_m >= 0";
+    return false;
+  }
+  landmark_model_ = std::make_unique<desktop::LandmarkLikelihood>(table_, lp);
+  seen_.reserve(64);
   return true;
 }
 
@@ -155,15 +200,15 @@ void Mcl::on_reply(DeviceId device, const wire::Message& reply) {
   if (device != map_in_) return;
   std::string error;
   if (fetch_.on_reply(reply, error)) {
-    start_filter();
+    start_filter(std::move(fetch_.grid()));
   } else if (!fetch_.busy() && !filter_ && !error.empty()) {
     log_warn("%s: %s; retrying in %.0f s", name_.c_str(), error.c_str(), kRetryUs * 1e-6);
     if (fetch_timer_ == 0) fetch_timer_ = node_->loop().start_timer(kRetryUs, 0, this);
   }
 }
 
-void Mcl::start_filter() {
-  map_ = std::move(fetch_.grid());
+void Mcl::start_filter(desktop::OccupancyGrid map) {
+  map_ = std::move(map);
   filter_ = std::make_unique<desktop::ParticleFilter>(map_, params_);
   log_info("%s: map %ux%u cells of %.3f m; %s", name_.c_str(), map_.width(), map_.height(), map_.resolution(),
            init_ == Init::Global ? "global localization" : "tracking from the initial pose");
@@ -184,6 +229,8 @@ void Mcl::on_data(DeviceId source, const wire::Message& data) {
     on_odometry(data);
   } else if (source == scan_in_) {
     on_scan(data);
+  } else if (source == landmarks_in_) {
+    on_landmarks(data);
   }
 }
 
@@ -247,7 +294,25 @@ void Mcl::on_scan(const wire::Message& data) {
   scan_view_.angular_res = s->angular_res();
   scan_view_.max_range = s->max_range() > 0 ? s->max_range() : 1e9;
   scan_view_.ranges = scan_ranges_;
-  scan_time_us_ = wire::time_us(*data.header());
+  pending_landmarks_ = false;
+  measured(wire::time_us(*data.header()));
+}
+
+void Mcl::on_landmarks(const wire::Message& data) {
+  const wire::FiducialList* list = data.body_as_FiducialList();
+  if (list == nullptr) return;
+  seen_.clear();
+  if (list->fiducials()) {
+    for (const wire::Fiducial* f : *list->fiducials()) seen_.push_back({f->id(), f->x(), f->y()});
+  }
+  pending_landmarks_ = true;
+  measured(wire::time_us(*data.header()));
+}
+
+// A measurement (scan or landmarks) of `time_us` waits for the odometry of
+// its instant; a newer one replaces it.
+void Mcl::measured(uint64_t time_us) {
+  scan_time_us_ = time_us;
   scan_pending_ = true;
   process_pending_scan(false);
   if (scan_pending_ && wait_timer_ == 0) wait_timer_ = node_->loop().start_timer(odom_wait_us_, 0, this);
@@ -269,7 +334,12 @@ void Mcl::process_pending_scan(bool force) {
     node_->loop().cancel_timer(wait_timer_);
     wait_timer_ = 0;
   }
-  filter_->update(odom, scan_view_, rng_);
+  if (pending_landmarks_) {
+    landmark_model_->set(seen_);
+    filter_->update(odom, *landmark_model_, rng_);
+  } else {
+    filter_->update(odom, scan_view_, rng_);
+  }
   publish(scan_time_us_);
 }
 

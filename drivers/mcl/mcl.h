@@ -4,7 +4,9 @@
 // The algorithm is desktop::ParticleFilter; this driver only feeds it.
 //
 // Uses: position2d (odometry), ranger (a scanning laser), map (fetched once
-// at start, tile by tile).
+// at start, tile by tile). Or, for feature-based localization (option
+// landmark_table): position2d, fiducial (landmark detections) and
+// optionally a map.
 // Provides: localize (required), position2d (optional).
 // Requests: localize SetPose (pose tracking from a pose and covariance),
 // Global (global localization).
@@ -16,6 +18,7 @@
 
 #include <memory>
 
+#include "drivers/common_desktop/landmark_model.h"
 #include "drivers/common_desktop/particle_filter.h"
 #include "drivers/mcl/map_fetch.h"
 #include "runtime/driver.h"
@@ -43,15 +46,18 @@ class Mcl : public Driver {
 
   void on_odometry(const wire::Message& data);
   void on_scan(const wire::Message& data);
+  void on_landmarks(const wire::Message& data);
+  void measured(uint64_t time_us);
   bool odometry_at(uint64_t time_us, desktop::Pose2& out) const;
   void process_pending_scan(bool force);
-  void start_filter();
+  void start_filter(desktop::OccupancyGrid map);
+  bool setup_landmarks(const OptionsView<Options>& options, std::string& error);
   void apply_init();
   void publish(uint64_t time_us);
 
   desktop::MclParams params_;
   std::string name_;
-  DeviceId odom_in_ = kNoDevice, scan_in_ = kNoDevice, map_in_ = kNoDevice;
+  DeviceId odom_in_ = kNoDevice, scan_in_ = kNoDevice, map_in_ = kNoDevice, landmarks_in_ = kNoDevice;
   DeviceId localize_ = kNoDevice, position_ = kNoDevice;
   MapFetch fetch_;
   desktop::OccupancyGrid map_;
@@ -77,6 +83,13 @@ class Mcl : public Driver {
   std::vector<float> scan_ranges_;
   std::vector<wire::Hypothesis> hyp_out_;  // reused for each publication
   size_t bad_scans_ = 0;
+  // Feature-based localization: the table, the model over it, and the
+  // detections waiting for odometry (pending_landmarks_: the pending
+  // measurement is these rather than a scan).
+  desktop::LandmarkTable table_;
+  std::unique_ptr<desktop::LandmarkLikelihood> landmark_model_;
+  std::vector<desktop::LandmarkObservation> seen_;
+  bool pending_landmarks_ = false;
 };
 
 }  // namespace troupe::drivers::mcl

@@ -299,6 +299,12 @@ void SimServer::simulation_request(const wire::Message& req, RequestToken token)
     case Sub::Reset:
       if (control_.reset) control_.reset();
       return ack_clock(token);
+    case Sub::StartPlayer:
+    case Sub::StopPlayer:
+    case Sub::GetGame:
+      // A Stage world has no game and no player plugins (RoboCup mode has:
+      // troupe-robocup --serve).
+      return node_->nack(token, ErrorCode::Unsupported, "troupe-sim has no game and no player plugins");
   }
   node_->nack(token, ErrorCode::Unsupported, "unknown simulation request");
 }

@@ -79,6 +79,21 @@ int main(int argc, char** argv) {
     save("simpose", w.finish(make_header(Address(0, uint16_t(Interface::Simulation), 0), Kind::Request, 6, 6, 5),
                              Body::SimPose, body.Union()));
   }
+  {
+    auto& b = w.start();
+    auto body = CreateSimGame(b, 1, 2, GamePhase::GoalPause, 3, b.CreateString("goal yellow"), 42);
+    save("simgame", w.finish(make_header(Address(0, uint16_t(Interface::Simulation), 0), Kind::Data, 2, 9, 5),
+                             Body::SimGame, body.Union()));
+  }
+  {
+    auto& b = w.start();
+    std::vector<flatbuffers::Offset<flatbuffers::String>> options = {b.CreateString("policy=block")};
+    auto robot = b.CreateString("blue0");
+    auto plugin = b.CreateString("goalkeeper");
+    auto body = CreateSimPlayer(b, robot, plugin, b.CreateVector(options));
+    save("simplayer", w.finish(make_header(Address(0, uint16_t(Interface::Simulation), 0), Kind::Request, 9, 10, 5),
+                               Body::SimPlayer, body.Union()));
+  }
   save("pull", w.empty(make_header(pos, Kind::Pull, 0, 7, 5)));
   {
     // Regression: a body offset without a body type. Valid for the verifier

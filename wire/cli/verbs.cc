@@ -3,6 +3,7 @@
 // arguments, one small body builder.
 #include <cstdlib>
 #include <span>
+#include <vector>
 
 #include "wire/cli/verbs.h"
 
@@ -125,6 +126,21 @@ bool sim_setpose(Builder& b, Args a, Built& out, std::string& e) {
   return true;
 }
 
+bool sim_start_player(Builder& b, Args a, Built& out, std::string& e) {
+  std::vector<flatbuffers::Offset<flatbuffers::String>> options;
+  for (const std::string& kv : a.subspan(2)) {
+    if (kv.find('=') == std::string::npos || kv[0] == '=') {
+      e = "'" + kv + "' is not key=value";
+      return false;
+    }
+    options.push_back(b.CreateString(kv));
+  }
+  auto robot = b.CreateString(a[0]);
+  auto plugin = b.CreateString(a[1]);
+  out = {Body::SimPlayer, wire::CreateSimPlayer(b, robot, plugin, b.CreateVector(options)).Union()};
+  return true;
+}
+
 bool opaque(Builder& b, Args a, Built& out, std::string& e) {
   std::vector<uint8_t> bytes;
   const std::string& hex = a[0];
@@ -185,6 +201,9 @@ const Verb kVerbs[] = {
     {I::Simulation, kReq, "setpose", "MODEL X Y A", "teleport: m, m, rad", sub(wire::SimulationReqSub::SetPose), 4, 4, sim_setpose},
     {I::Simulation, kReq, "reset", "", "every model back to its start", sub(wire::SimulationReqSub::Reset), 0, 0, none},
     {I::Simulation, kReq, "clock", "", "simulated time and speed", sub(wire::SimulationReqSub::GetClock), 0, 0, none},
+    {I::Simulation, kReq, "start", "ROBOT PLUGIN [KEY=VALUE]...", "start a player plugin on a robot", sub(wire::SimulationReqSub::StartPlayer), 2, 64, sim_start_player},
+    {I::Simulation, kReq, "stop", "ROBOT", "stop the robot's player plugin", sub(wire::SimulationReqSub::StopPlayer), 1, 1, sim_model},
+    {I::Simulation, kReq, "game", "", "score and game state", sub(wire::SimulationReqSub::GetGame), 0, 0, none},
     {I::Opaque, kCmd, "bytes", "HEX", "arbitrary bytes", sub(wire::OpaqueSub::Bytes), 1, 1, opaque},
     {I::Opaque, kReq, "bytes", "HEX", "arbitrary bytes", sub(wire::OpaqueSub::Bytes), 1, 1, opaque},
 };

@@ -52,7 +52,9 @@ bool Client::connected() const { return state_ == State::Connected; }
 bool Client::connect(int timeout_ms) {
   if (state_ == State::Idle && !start_connect()) return false;
   uint64_t deadline = now_us() + uint64_t(std::max(timeout_ms, 0)) * 1000u;
-  while (state_ == State::Connecting || state_ == State::Handshake) {
+  // Connected means the TimeSync sent with the handshake has come back
+  // too: clock_offset_us() is valid when this returns true.
+  while (state_ == State::Connecting || state_ == State::Handshake || (connected() && !time_synced_)) {
     uint64_t now = now_us();
     if (now >= deadline) {
       error_ = "timed out connecting to " + host_ + ":" + std::to_string(port_);
@@ -115,6 +117,7 @@ bool Client::start_connect() {
 void Client::on_connected() {
   state_ = State::Handshake;
   hello_seen_ = false;
+  time_synced_ = false;
   auto& b = control_writer_.start();
   auto hello = wire::CreateHello(b, wire::kProtocolVersion, b.CreateString(options_.name),
                                  options_.limits.max_frame_bytes, udp_port_, now_us());
@@ -299,6 +302,7 @@ void Client::dispatch(std::span<const uint8_t> frame) {
           int64_t t2 = int64_t(t->node_send_us()), t3 = int64_t(now_us());
           clock_offset_us_ = ((t1 - t0) + (t2 - t3)) / 2;
         }
+        time_synced_ = true;
       }
       break;
     case wire::Kind::Ack:

@@ -80,7 +80,8 @@ class Client {
   /// The node's name from its Hello.
   const std::string& node_name() const { return node_name_; }
   /// Node clock minus this process's monotonic clock, us, from TimeSync at
-  /// connect (0 before). Add it to local time to get node time.
+  /// connect (valid once connect() returned true; 0 before). From a
+  /// simulator, node time is simulated time. Add it to local time to get node time.
   int64_t clock_offset_us() const { return clock_offset_us_; }
   /// A round trip to the node (TimeSync): when it returns true, everything
   /// sent before it was handled (commands given to their drivers) and any
@@ -198,6 +199,8 @@ class Client {
   bool awaited_done_ = false;
   Reply awaited_;
   bool hello_seen_ = false;
+  /// The TimeSync of the current connection has been answered.
+  bool time_synced_ = false;
 };
 
 }  // namespace troupe::client

@@ -207,13 +207,30 @@ class MapProxy final : public Proxy {
   void update(const wire::Message&) override {}
 };
 
+/// A game's score and state (simulators with a referee: RoboCup mode).
+struct GameState {
+  unsigned score_blue = 0, score_yellow = 0;
+  wire::GamePhase phase = wire::GamePhase::Play;
+  /// Referee events since the start, and the latest ("goal yellow").
+  uint32_t events = 0;
+  std::string last_event;
+  /// Simulated time of the latest event, us.
+  uint64_t last_event_time_us = 0;
+};
+
 class SimulationProxy final : public Proxy {
  public:
   explicit SimulationProxy(Client& client, uint16_t index = 0);
   /// Latest clock data: simulated time (us), paused, real-time factor.
   uint64_t sim_time_us() const { return sim_time_us_; }
+  /// Steps run since the start.
+  uint64_t steps() const { return steps_; }
   bool paused() const { return paused_; }
   float real_time_factor() const { return rtf_; }
+  /// The latest game data (all zero from simulators without a game).
+  const GameState& game() const { return game_; }
+  /// Asks for the game state now (also updates game()).
+  bool get_game(GameState& out);
 
   bool pause();
   bool resume();
@@ -224,14 +241,30 @@ class SimulationProxy final : public Proxy {
   /// Ground-truth pose of a model (world frame: m, m, rad).
   bool get_pose(const std::string& model, Pose2& pose);
   bool set_pose(const std::string& model, const Pose2& pose);
+  /// Ground truth with the world-frame velocity (m/s, m/s, rad/s), where
+  /// the simulator knows it.
+  bool get_pose(const std::string& model, Pose2& pose, Pose2& velocity);
+  /// Teleports a model and gives it a world-frame velocity (a ball: m/s;
+  /// robots stop).
+  bool set_pose(const std::string& model, const Pose2& pose, const Pose2& velocity);
   bool reset();
+  /// Starts a player plugin on a robot with "key=value" options; the
+  /// robot's previous player stops. False with client().error() naming the
+  /// problem (missing plugin, bad option); the running player goes on.
+  bool start_player(const std::string& robot, const std::string& plugin,
+                    const std::vector<std::string>& options = {});
+  /// Stops the robot's player: it then obeys its position2d commands.
+  bool stop_player(const std::string& robot);
 
  private:
   void update(const wire::Message& msg) override;
   bool clock_request(wire::SimulationReqSub sub);
+  void read_game(const wire::SimGame& g);
   uint64_t sim_time_us_ = 0;
+  uint64_t steps_ = 0;
   bool paused_ = false;
   float rtf_ = 0;
+  GameState game_;
 };
 
 }  // namespace troupe::client

@@ -26,7 +26,9 @@ bool LocalizeProxy::set_pose(float x, float y, float a, float sx, float sy, floa
   return request(uint8_t(wire::LocalizeReqSub::SetPose), wire::Body::LocalizeSetPose, body.Union()).ok();
 }
 
-bool LocalizeProxy::global() { return request(uint8_t(wire::LocalizeReqSub::Global)).ok(); }
+bool LocalizeProxy::global() {
+  return request(uint8_t(wire::LocalizeReqSub::Global)).ok();
+}
 
 MapProxy::MapProxy(Client& client, uint16_t index, uint16_t robot)
     : Proxy(client, address_of(Interface::Map, index, robot)) {
@@ -71,9 +73,66 @@ SimulationProxy::SimulationProxy(Client& client, uint16_t index)
 void SimulationProxy::update(const wire::Message& msg) {
   if (const wire::SimClock* c = msg.body_as_SimClock()) {
     sim_time_us_ = c->sim_time_us();
+    steps_ = c->steps();
     paused_ = c->paused();
     rtf_ = c->real_time_factor();
+  } else if (const wire::SimGame* g = msg.body_as_SimGame()) {
+    read_game(*g);
   }
+}
+
+void SimulationProxy::read_game(const wire::SimGame& g) {
+  game_.score_blue = g.score_blue();
+  game_.score_yellow = g.score_yellow();
+  game_.phase = g.phase();
+  game_.events = g.events();
+  game_.last_event = g.last_event() ? g.last_event()->str() : std::string();
+  game_.last_event_time_us = g.last_event_time_us();
+}
+
+bool SimulationProxy::get_game(GameState& out) {
+  Reply r = request(uint8_t(wire::SimulationReqSub::GetGame));
+  const wire::SimGame* g = r.ok() ? r.message()->body_as_SimGame() : nullptr;
+  if (g == nullptr) return false;
+  read_game(*g);
+  out = game_;
+  return true;
+}
+
+bool SimulationProxy::start_player(const std::string& robot, const std::string& plugin,
+                                   const std::vector<std::string>& options) {
+  auto& b = client().begin();
+  std::vector<flatbuffers::Offset<flatbuffers::String>> texts;
+  for (const std::string& o : options) texts.push_back(b.CreateString(o));
+  auto r = b.CreateString(robot);
+  auto p = b.CreateString(plugin);
+  auto body = wire::CreateSimPlayer(b, r, p, b.CreateVector(texts));
+  return request(uint8_t(wire::SimulationReqSub::StartPlayer), wire::Body::SimPlayer, body.Union()).ok();
+}
+
+bool SimulationProxy::stop_player(const std::string& robot) {
+  auto& b = client().begin();
+  auto body = wire::CreateSimModel(b, b.CreateString(robot));
+  return request(uint8_t(wire::SimulationReqSub::StopPlayer), wire::Body::SimModel, body.Union()).ok();
+}
+
+bool SimulationProxy::get_pose(const std::string& model, Pose2& pose, Pose2& velocity) {
+  auto& b = client().begin();
+  auto body = wire::CreateSimModel(b, b.CreateString(model));
+  Reply r = request(uint8_t(wire::SimulationReqSub::GetPose), wire::Body::SimModel, body.Union());
+  const wire::SimPose* p = r.ok() ? r.message()->body_as_SimPose() : nullptr;
+  if (p == nullptr || p->pose() == nullptr) return false;
+  pose = {p->pose()->x(), p->pose()->y(), p->pose()->a()};
+  velocity = p->velocity() ? Pose2{p->velocity()->x(), p->velocity()->y(), p->velocity()->a()} : Pose2{};
+  return true;
+}
+
+bool SimulationProxy::set_pose(const std::string& model, const Pose2& pose, const Pose2& velocity) {
+  auto& b = client().begin();
+  wire::Pose2d p(pose.x, pose.y, pose.a);
+  wire::Pose2d v(velocity.x, velocity.y, velocity.a);
+  auto body = wire::CreateSimPose(b, b.CreateString(model), &p, &v);
+  return request(uint8_t(wire::SimulationReqSub::SetPose), wire::Body::SimPose, body.Union()).ok();
 }
 
 bool SimulationProxy::clock_request(wire::SimulationReqSub sub) {
@@ -86,9 +145,15 @@ bool SimulationProxy::clock_request(wire::SimulationReqSub sub) {
   return true;
 }
 
-bool SimulationProxy::pause() { return clock_request(wire::SimulationReqSub::Pause); }
-bool SimulationProxy::resume() { return clock_request(wire::SimulationReqSub::Resume); }
-bool SimulationProxy::reset() { return clock_request(wire::SimulationReqSub::Reset); }
+bool SimulationProxy::pause() {
+  return clock_request(wire::SimulationReqSub::Pause);
+}
+bool SimulationProxy::resume() {
+  return clock_request(wire::SimulationReqSub::Resume);
+}
+bool SimulationProxy::reset() {
+  return clock_request(wire::SimulationReqSub::Reset);
+}
 
 bool SimulationProxy::step(uint32_t steps) {
   auto& b = client().begin();

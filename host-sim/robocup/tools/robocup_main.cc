@@ -2,13 +2,19 @@
 //
 //   troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]
 //                  [--plugin-path DIR]... [--realtime] [--profile] [--quiet]
+//   troupe-robocup WORLD --serve [--port P] [--listen ADDR] [--speed X] [--paused] [--seconds S]
 //
 // Without --script or --interactive it runs S simulated seconds (default:
 // the referee's duration, else 60) as fast as it can and prints the
 // referee's events and the final score. A script or standard input holds
 // console commands (game/console.h): `start blue1 goalkeeper policy=block`,
-// `run 10`, `score`, ... Exit status: 0 done, 1 a command failed, 2 the
-// world could not be loaded.
+// `run 10`, `score`, ... With --serve it serves every robot and simulation:0
+// over the wire (serve/robocup_server.h) in real time (--speed: a multiple,
+// 0 as fast as possible) until interrupted, the referee's time is up or S
+// seconds ran. Exit status: 0 done, 1 a command failed, 2 the world could
+// not be loaded or served.
+#include <signal.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +24,7 @@
 #include <thread>
 
 #include "host-sim/robocup/game/console.h"
+#include "host-sim/robocup/serve/serve_loop.h"
 #include "runtime/log.h"
 
 using namespace troupe::robocup;
@@ -26,7 +33,9 @@ namespace {
 
 const char kUsage[] =
     "usage: troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]\n"
-    "                     [--plugin-path DIR]... [--realtime] [--profile] [--quiet]\n";
+    "                     [--plugin-path DIR]... [--realtime] [--profile] [--quiet]\n"
+    "       troupe-robocup WORLD --serve [--port P] [--listen ADDR] [--speed X] [--paused]\n"
+    "                     [--seconds S] [--plugin-path DIR]...\n";
 
 const char kHelp[] =
     "\n"
@@ -42,15 +51,48 @@ const char kHelp[] =
     "  --realtime       keep to real time instead of running flat out\n"
     "  --profile        print the mean time per cycle of each phase at the end\n"
     "  --quiet          no event lines, only the final score\n"
+    "  --serve          serve every robot and simulation:0 over the wire instead\n"
+    "  --port P         with --serve: TCP port (default 6665; 0: any, printed)\n"
+    "  --listen ADDR    with --serve: address to listen on (default 127.0.0.1)\n"
+    "  --speed X        with --serve: multiple of real time (0: as fast as possible)\n"
+    "  --paused         with --serve: start paused (simulation:0 resume or step)\n"
     "\n"
     "examples:\n"
     "  troupe-robocup examples/robocup/match.world --seconds 120 --seed 4\n"
-    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n";
+    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n"
+    "  troupe robocup examples/robocup/match.world --serve          # then: troupe-robocup-striker localhost\n";
 
 /// The short usage to stderr for a mistake; the whole help to stdout when asked.
 void usage(bool asked = false) {
   fputs(kUsage, asked ? stdout : stderr);
   if (asked) fputs(kHelp, stdout);
+}
+
+ServeLoop* g_serving = nullptr;
+
+void stop_serving(int) {
+  if (g_serving) g_serving->request_stop();
+}
+
+int serve(Simulation& sim, const ServeOptions& options) {
+  ServeLoop loop(sim);
+  std::string error;
+  if (!loop.start(options, error)) {
+    fprintf(stderr, "troupe-robocup: %s\n", error.c_str());
+    return 2;
+  }
+  g_serving = &loop;
+  signal(SIGINT, stop_serving);
+  signal(SIGTERM, stop_serving);
+  // The port on its own line, so scripts and tests that asked for port 0
+  // can read it.
+  printf("listening on %s:%u\n", options.listen.c_str(), unsigned(loop.port()));
+  fflush(stdout);
+  loop.run();
+  g_serving = nullptr;
+  const Score s = sim.score();
+  printf("final: blue %d yellow %d after %.2f s simulated\n", s.blue, s.yellow, sim.time_s());
+  return 0;
 }
 
 struct Totals {
@@ -87,7 +129,9 @@ int main(int argc, char** argv) {
   std::string world_file, script;
   double seconds = -1;
   long seed = -1;
-  bool interactive = false, realtime = false, profile = false, quiet = false;
+  bool interactive = false, realtime = false, profile = false, quiet = false, serving = false;
+  ServeOptions serve_options;
+  serve_options.port = troupe::wire::kDefaultPort;
   std::vector<std::string> plugin_path;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -114,6 +158,25 @@ int main(int argc, char** argv) {
       profile = true;
     } else if (arg == "--quiet") {
       quiet = true;
+    } else if (arg == "--serve") {
+      serving = true;
+    } else if (arg == "--port") {
+      const long port = std::atol(value("a port"));
+      if (port < 0 || port > 65535) {
+        fprintf(stderr, "troupe-robocup: --port: %ld is not a port (0..65535)\n", port);
+        return 2;
+      }
+      serve_options.port = uint16_t(port);
+    } else if (arg == "--listen") {
+      serve_options.listen = value("an address");
+    } else if (arg == "--speed") {
+      serve_options.speed = std::atof(value("a multiple of real time"));
+      if (!(serve_options.speed >= 0)) {
+        fprintf(stderr, "troupe-robocup: --speed must be >= 0 (0: as fast as possible)\n");
+        return 2;
+      }
+    } else if (arg == "--paused") {
+      serve_options.paused = true;
     } else if (arg == "-h" || arg == "--help") {
       usage(true);
       return 0;
@@ -144,6 +207,10 @@ int main(int argc, char** argv) {
   }
   if (!sim->problems().empty()) {
     fprintf(stderr, "troupe-robocup: running without %zu plugin(s), see above\n", sim->problems().size());
+  }
+  if (serving) {
+    serve_options.seconds = std::max(0.0, seconds);
+    return serve(*sim, serve_options);
   }
   Totals totals;
   const auto wall0 = std::chrono::steady_clock::now();

@@ -1,0 +1,110 @@
+// Serves a RoboCup Simulation over the wire: one runtime Driver providing
+// every robot's devices (robot number = the robot's index in the world
+// file, named by its world-file name) and simulation:0.
+//
+//   position2d:0   the first odometry sensor's pose and velocity; velocity
+//                  commands (obeyed while no player plugin runs)
+//   actuator:0     the kicker: Kick commands, its state (robots with one)
+//   fiducial:k     the k-th iconic sensor (camera, omnivision, laser in
+//                  iconic mode): detections with landmark codes
+//                  (wire/landmark_code.h)
+//   ranger:k       the k-th range sensor (laser raw, ultrasonic)
+//   simulation:0   clock, score and game state, pause/step/speed/reset,
+//                  ground-truth poses of robots and the ball, players
+//
+// Each sensor's device names its instance in the device list's driver
+// column ("robocup/omni"), which is how clients find sensors by model.
+// Data carries the simulated time of its measurement.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "host-sim/robocup/game/simulation.h"
+#include "runtime/driver.h"
+#include "runtime/node.h"
+
+namespace troupe::robocup {
+
+/// What the simulation device changes in the running loop (owned by the
+/// runner; the server only edits it).
+struct ServeControl {
+  bool paused = false;
+  /// Multiple of real time; 0: as fast as possible.
+  double speed = 1;
+  /// Measured simulated seconds per wall second (0 before it is known).
+  double real_time_factor = 0;
+  /// Runs n cycles now (simulation, then publishing), for the Step request.
+  std::function<void(uint32_t)> step;
+};
+
+class RobocupServer final : public Driver {
+ public:
+  RobocupServer(Simulation& sim, ServeControl& control);
+
+  bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
+  void on_command(DeviceId device, const wire::Message& command) override;
+  void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
+
+  /// Publishes what changed since the last call to the devices someone
+  /// reads: a sensor's data once per measurement, the clock every call.
+  void publish();
+
+  size_t device_count() const { return devices_.size(); }
+
+ private:
+  enum class Kind : uint8_t { Position, Kicker, Fiducial, Ranger, Simulation };
+  struct Device {
+    DeviceId id = kNoDevice;
+    Kind kind = Kind::Position;
+    int robot = 0;
+    /// Index into the robot's readings (-1: none, e.g. no odometry).
+    int reading = -1;
+    /// Simulated time of the last reading published, s (-1: none yet).
+    double published_s = -1;
+    /// Actuator: the kicker state last published (-1: none yet).
+    int kicker_state = -1;
+    bool motors_on = true;
+  };
+
+  void add(Node& node, Kind kind, int robot, int reading, wire::Interface iface, uint16_t index,
+           const std::string& model);
+  Device* find(DeviceId id);
+  const PluginSpec* sensor_spec(const Device& d) const;
+
+  // robocup_publish.cc
+  void publish_position(Device& d);
+  void publish_kicker(Device& d);
+  void publish_fiducials(Device& d);
+  void publish_ranges(Device& d);
+  void publish_clock(const Device& d);
+  void publish_game(const Device& d);
+  flatbuffers::Offset<wire::SimGame> build_game(flatbuffers::FlatBufferBuilder& b);
+
+  // robocup_requests.cc
+  void sensor_request(Device& d, const wire::Message& request, RequestToken token);
+  void simulation_request(const wire::Message& request, RequestToken token);
+  void pose_request(const wire::Message& request, bool set, RequestToken token);
+  void player_request(const wire::Message& request, RequestToken token);
+  void ack_clock(RequestToken token);
+
+  Simulation& sim_;
+  ServeControl& control_;
+  std::vector<Device> devices_;
+  DeviceId first_ = kNoDevice;
+  /// The game as last published: score, phase, event count.
+  Score game_score_;
+  GamePhase game_phase_ = GamePhase::Play;
+  size_t game_events_ = SIZE_MAX;
+  std::vector<uint16_t> scratch_ranges_;
+  std::vector<wire::Fiducial> scratch_fiducials_;
+};
+
+/// How a sensor's readings go on the wire: odometry on position2d,
+/// detections on fiducial, ranges on ranger. Decided from the plugin and
+/// its options, before the sensor first measures.
+ReadingKind served_kind(const PluginSpec& sensor);
+
+}  // namespace troupe::robocup

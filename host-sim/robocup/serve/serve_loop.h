@@ -1,0 +1,60 @@
+// Runs a RoboCup Simulation and serves it (RobocupServer) from one thread:
+// cycles in real time (or a multiple, or as fast as possible) between polls
+// of the network, paused and stepped through simulation:0.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "host-sim/robocup/serve/robocup_server.h"
+#include "runtime/node.h"
+
+namespace troupe::robocup {
+
+struct ServeOptions {
+  std::string listen = "127.0.0.1";
+  /// TCP (and UDP) port; 0: any free port (see ServeLoop::port()).
+  uint16_t port = 0;
+  /// Multiple of real time; 0: as fast as possible.
+  double speed = 1;
+  bool paused = false;
+  /// Stop after this much simulated time, s (0: run until stopped).
+  double seconds = 0;
+};
+
+class ServeLoop {
+ public:
+  explicit ServeLoop(Simulation& sim);
+  ~ServeLoop();
+  ServeLoop(const ServeLoop&) = delete;
+  ServeLoop& operator=(const ServeLoop&) = delete;
+
+  /// Opens the server. False with `error` (e.g. the port is taken).
+  bool start(const ServeOptions& options, std::string& error);
+  /// Runs until request_stop(), the time limit, or the referee's time up.
+  void run();
+  /// Safe from any thread.
+  void request_stop() { stop_ = true; }
+
+  /// The bound TCP port.
+  uint16_t port() const;
+  Node& node() { return *node_; }
+  const ServeControl& control() const { return control_; }
+
+ private:
+  void step(uint32_t n);
+  void measure_rate();
+
+  Simulation& sim_;
+  ServeOptions options_;
+  ServeControl control_;
+  std::unique_ptr<Node> node_;
+  RobocupServer* server_ = nullptr;  // owned by node_
+  std::atomic<bool> stop_{false};
+  uint64_t rate_wall_us_ = 0;
+  double rate_sim_s_ = 0;
+};
+
+}  // namespace troupe::robocup
