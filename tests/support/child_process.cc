@@ -166,15 +166,16 @@ uint16_t free_port() {
 
 bool wait_for_listener(uint16_t port, double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (std::chrono::steady_clock::now() < deadline) {
+  // At least one try, so a timeout of 0 asks once.
+  for (;;) {
     int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     sockaddr_in a = loopback(port);
     const bool ok = connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
     close(fd);
     if (ok) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(kPollMs));
   }
-  return false;
 }
 
 std::string make_temp_dir(const std::string& prefix) {

@@ -59,7 +59,7 @@ class ChildProcess {
 /// A TCP port on 127.0.0.1 nothing listens on right now.
 uint16_t free_port();
 /// True once something accepts connections on 127.0.0.1:`port`, within
-/// `timeout_s` (which only bounds a failing test).
+/// `timeout_s` (which only bounds a failing test; 0: asks once).
 bool wait_for_listener(uint16_t port, double timeout_s);
 /// A new folder under the system's temporary folder, named `prefix` and a
 /// unique suffix; "" when it cannot be made.
