@@ -69,7 +69,9 @@ uint16_t body_interface(Body body) {
     case Body::SimStep:
     case Body::SimSpeed:
     case Body::SimModel:
-    case Body::SimPose: return code(I::Simulation);
+    case Body::SimPose:
+    case Body::SimModelList:
+    case Body::SimPoses: return code(I::Simulation);
     case Body::OpaqueBytes: return code(I::Opaque);
   }
   return code(I::None);
