@@ -48,6 +48,10 @@ export class Connection {
   onClose: (reason: string) => void = () => {};
   nodeName = '';
   framesIn = 0;
+  /// Requests still waiting for their reply.
+  get pendingCount(): number {
+    return this.pending.size;
+  }
 
   constructor(url: string, private onOpen: () => void) {
     this.ws = new WebSocket(url);

@@ -58,8 +58,11 @@ async function start(): Promise<void> {
     for (const d of scene.devices) {
       if (d.addr.iface !== kPosition2d || scene.byNumber.has(d.addr.robot)) continue;
       addRobot({ name: d.robotName || conn.nodeName || `robot ${d.addr.robot}`, number: d.addr.robot,
-                 pose: { x: 0, y: 0, a: 0 }, size: [0.45, 0.4], color: '#d04040', trail: [] });
+                 pose: { x: 0, y: 0, a: 0 }, size: [0.45, 0.4], color: '#d04040', trail: [],
+                 poseIndex: d.addr.index });
     }
+    // A node's robot wanders off the first view: keep it in the middle.
+    $<HTMLInputElement>('follow').checked = true;
     if (scene.robots.length) await select(scene.robots[0]);
   }
   const map = scene.devices.find((d) => d.addr.iface === kMap);
@@ -200,16 +203,25 @@ async function teleport(r: Robot, pose: Pose): Promise<void> {
     r.trail = [];
     teleports++;
   } catch (e) {
-    setStatus(`teleport refused: ${(e as Error).message}`);
+    notice = `teleport refused: ${(e as Error).message}`;
   }
 }
 let teleports = 0;
+/// The last refusal, shown in the status line.
+let notice = '';
 
 // --- simulation controls
 async function simRequest(sub: W.SimulationReqSub, body?: Parameters<Connection['request']>[2]): Promise<void> {
   if (!simDevice) return;
-  const reply = await conn.request(simDevice.addr, sub, body);
+  let reply;
+  try {
+    reply = await conn.request(simDevice.addr, sub, body);
+  } catch (e) {
+    notice = `${W.SimulationReqSub[sub]} refused: ${(e as Error).message}`;
+    return;
+  }
   scene.onData(reply, simDevice.addr);  // the Ack carries the SimClock
+  $('pause').textContent = scene.paused ? 'Resume' : 'Pause';
 }
 $('pause').onclick = () => void simRequest(scene.paused ? W.SimulationReqSub.Resume : W.SimulationReqSub.Pause);
 $('step').onclick = () => void simRequest(W.SimulationReqSub.Step, (b) =>
@@ -230,7 +242,7 @@ function updatePanel(): void {
   if (ready) {
     const what = mode === 'sim' ? `troupe-sim, ${scene.robots.length} robots` :
                                   `node ${conn.nodeName || ''}, ${scene.devices.length} devices`;
-    if (!closeReason) setStatus(`connected: ${what}`);
+    if (!closeReason) setStatus(`connected: ${what}${notice ? '; ' + notice : ''}`);
   }
   const panel = $('selected');
   if (!r) {
@@ -289,6 +301,7 @@ requestAnimationFrame(frame);
   get steps() { return scene.steps; },
   get paused() { return scene.paused; },
   get framesIn() { return conn.framesIn; },
+  get pendingRequests() { return conn.pendingCount; },
   get teleports() { return teleports; },
   get selected() { return state.selected?.name ?? null; },
   robots: () => scene.robots.map((r) => r.name),

@@ -19,6 +19,9 @@ export interface Robot {
   size: [number, number]; // m
   color: string;
   trail: Pose[];
+  /// On a node: the position2d index whose odometry places the robot (a
+  /// node may serve several estimates of one robot).
+  poseIndex?: number;
 }
 
 /// A ranger's mounting (robot frame) and its latest scan's beam ends.
@@ -168,7 +171,7 @@ export class Scene {
                              `velocity ${fmt(v?.x())} m/s, ${fmt(v?.a())} rad/s${s.stall() ? '; STALLED' : ''}`);
         const r = this.byNumber.get(addr.robot);
         // A node's robot is drawn where its odometry says.
-        if (r && p && this.odometryPoses) {
+        if (r && p && this.odometryPoses && addr.index === r.poseIndex) {
           r.pose = { x: p.x(), y: p.y(), a: p.a() };
           pushTrail(r);
         }
