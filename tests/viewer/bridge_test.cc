@@ -40,6 +40,9 @@ bot ( name "r0" pose [0 0 0 0] color "red" ranger ( sensor ( range [0 8] fov 180
 bot ( name "r1" pose [-3 2 0 90] )
 )";
 
+// The bridge's frame limit in these tests, bytes.
+constexpr uint32_t kFrameLimit = 64 * 1024;
+
 // Everything a test waits for is a socket event; this only bounds a broken run.
 constexpr auto kDeadline = std::chrono::seconds(30);
 
@@ -105,6 +108,15 @@ class Page {
     return {};
   }
 
+  /// Reads (the node's Hello may come first) until the server closes the
+  /// WebSocket; false when a deadline passed instead.
+  bool closed() {
+    for (int i = 0; i < 1000; ++i) {
+      if (!read()) return ws_.reason().code != websocket::close_code::none;
+    }
+    return false;
+  }
+
   websocket::close_reason close_reason() const { return ws_.reason(); }
 
  private:
@@ -137,6 +149,7 @@ class BridgeTest : public ::testing::Test {
     vo.http_port = 0;
     vo.node_port = runner_.port();
     vo.web_root = dir_.path("web");
+    vo.limits.max_frame_bytes = kFrameLimit;
     server_ = std::make_unique<ViewServer>(vo);
     ASSERT_TRUE(server_->open(error)) << error;
     server_->start_thread();
@@ -270,7 +283,7 @@ TEST_F(BridgeTest, BadInputClosesOnlyThatPage) {
   Page garbage(server_->port());
   const std::vector<uint8_t> junk = {0xde, 0xad, 0xbe, 0xef, 1, 2, 3};
   garbage.send(junk);
-  EXPECT_FALSE(garbage.read().has_value());
+  EXPECT_TRUE(garbage.closed());
   EXPECT_EQ(garbage.close_reason().code, websocket::close_code::bad_payload);
   EXPECT_NE(reason(garbage).find("one size-prefixed frame"), std::string::npos) << reason(garbage);
 
@@ -278,13 +291,33 @@ TEST_F(BridgeTest, BadInputClosesOnlyThatPage) {
   Page forged(server_->port());
   std::vector<uint8_t> bad = {12, 0, 0, 0, 0xff, 0xff, 0xff, 0x7f, 0, 0, 0, 0, 0, 0, 0, 0};
   forged.send(bad);
-  EXPECT_FALSE(forged.read().has_value());
+  EXPECT_TRUE(forged.closed());
   EXPECT_EQ(forged.close_reason().code, websocket::close_code::bad_payload);
   EXPECT_NE(reason(forged).find("frame refused"), std::string::npos) << reason(forged);
 
-  // The first page goes on.
+  // A message over the frame limit is refused before it is buffered.
+  Page huge(server_->port());
+  huge.send(std::vector<uint8_t>(kFrameLimit + 1, 0));
+  EXPECT_TRUE(huge.closed());
+  EXPECT_EQ(huge.close_reason().code, websocket::close_code::too_big);
+
+  // Not HTTP at all on the page's port.
+  {
+    net::io_context io;
+    tcp::socket s(io);
+    tcp::resolver resolver(io);
+    net::connect(s, resolver.resolve("127.0.0.1", std::to_string(server_->port())));
+    net::write(s, net::buffer(std::string("\x16\x03\x01 not http\r\n\r\n")));
+    beast::error_code ec;
+    std::array<char, 256> sink;
+    while (!ec) s.read_some(net::buffer(sink), ec);  // the server closes it
+    EXPECT_TRUE(ec == net::error::eof || ec == net::error::connection_reset) << ec.message();
+  }
+
+  // The first page goes on, and the page is still served.
   good.send(simple({}, wire::Kind::DeviceList, 0, 2));
   EXPECT_FALSE(good.reply(2).empty());
+  EXPECT_EQ(get(server_->port(), "/").result(), http::status::ok);
 }
 
 TEST(BridgeNoNode, APageLearnsTheNodeIsUnreachable) {
@@ -301,7 +334,7 @@ TEST(BridgeNoNode, APageLearnsTheNodeIsUnreachable) {
   ASSERT_TRUE(server.open(error)) << error;
   server.start_thread();
   Page page(server.port());
-  EXPECT_FALSE(page.read().has_value());
+  EXPECT_TRUE(page.closed());
   EXPECT_EQ(page.close_reason().code, websocket::close_code::try_again_later);
   EXPECT_NE(reason(page).find("cannot reach the node"), std::string::npos);
 }
