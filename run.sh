@@ -37,47 +37,58 @@ build() {
   cmake --build --preset "$1" -j "$(nproc)"
 }
 
-NODE_PID=""
-stop_node() {
-  [ -n "$NODE_PID" ] && kill "$NODE_PID" 2>/dev/null && wait "$NODE_PID" 2>/dev/null
+SIM_PID=""
+stop_sim() {
+  [ -n "$SIM_PID" ] && kill "$SIM_PID" 2>/dev/null && wait "$SIM_PID" 2>/dev/null
+  SIM_PID=""
   return 0
 }
 
+# The main job: troupe-sim on the bundled swarm world, its 100 robots driven
+# over the wire by separate client connections, then a picture of the end.
 demo() {
   install_packages "${BUILD_PACKAGES[@]}"
   build host-release
-  local bin=build/host-release port=6665
+  local bin=build/host-release port=6665 out=build/demo
   local troupe="$bin/wire/cli/troupe" host="localhost:$port"
-  say "starting troupe-node with examples/nodes/kinematic.json"
-  "$bin/runtime/troupe-node" examples/nodes/kinematic.json --port "$port" &
-  NODE_PID=$!
-  trap stop_node EXIT
-  for _ in $(seq 50); do "$troupe" ls "$host" >/dev/null 2>&1 && break; sleep 0.1; done
-  if ! kill -0 "$NODE_PID" 2>/dev/null; then
-    echo "troupe-node did not start (its error is above; is port $port in use?)" >&2
+  local world=examples/worlds/swarm100.world
+  mkdir -p "$out"
+  say "starting troupe-sim on $world (100 robots, 4x real time, no in-process controllers)"
+  "$bin/wire/cli/troupe-sim" "$world" --no-ctrl --speed 4 --port "$port" \
+    --snapshot "$out/swarm100.png" --log "$out/swarm100.csv" &
+  SIM_PID=$!
+  trap stop_sim EXIT
+  for _ in $(seq 100); do "$troupe" ls "$host" >/dev/null 2>&1 && break; sleep 0.1; done
+  if ! kill -0 "$SIM_PID" 2>/dev/null; then
+    echo "troupe-sim did not start (its error is above; is port $port in use?)" >&2
     exit 1
   fi
-  say "troupe ls $host"
-  "$troupe" ls "$host"
-  say "driving position2d:0 around a 1 m square with goto commands"
-  local corner=1
-  for goal in "1 0 1.5708" "1 1 3.1416" "0 1 -1.5708" "0 0 0"; do
-    # shellcheck disable=SC2086  # goal is three numbers
-    "$troupe" cmd "$host" position2d:0 goto $goal
-    sleep 7
-    printf 'corner %d (goal %s): ' "$corner" "$goal"
-    "$troupe" echo "$host" position2d:0 --count 1
-    corner=$((corner + 1))
-  done
+  local devices
+  devices=$("$troupe" ls "$host")
+  say "troupe ls $host (the first 8 of $(wc -l <<<"$devices") devices)"
+  head -n 8 <<<"$devices"
+  say "driving every robot over the wire: swarm-clients, one connection per robot, 30 s"
+  "$bin/examples/controllers/swarm-clients" "$host" --seconds 30
+  say "robot b0's odometry, read over the wire"
+  "$troupe" echo "$host" b0/position2d:0 --count 1
+  say "stopping troupe-sim"
+  stop_sim
   say "done"
   cat <<EOT
-The robot was a kinematic base inside troupe-node, driven over the wire by
-the troupe CLI. To keep playing:
+The robots gathered into clusters (the mean distance above fell), each
+driven by its own client connection, exactly as real robots would be.
 
-  $bin/runtime/troupe-node examples/nodes/kinematic.json &
-  $troupe teleop localhost position2d:0      # drive with the keyboard
-  $troupe echo localhost position2d:0        # watch its odometry
-  $troupe help                               # every command
+  $out/swarm100.png    the arena, robots and sonar beams at the end
+  $out/swarm100.csv    every robot's pose at every step (time,robot,x,y,a)
+
+To keep playing (the tools are in $bin/wire/cli):
+
+  troupe-sim $world &      # with the in-process controllers
+  troupe ls localhost                                 # every robot's devices
+  troupe echo localhost b7/ranger:0                   # a robot's sonar ring
+  troupe teleop localhost b7/position2d:0             # drive one with the keyboard
+  troupe req localhost simulation:0 getpose b7        # its ground truth
+  troupe help                                         # every command
 EOT
 }
 

@@ -76,7 +76,10 @@ int main(int argc, char** argv) {
   SignalWatch signals(runner.node().loop(), runner);
   const troupe::sim::World& w = runner.world();
   size_t controlled = 0;
-  for (const auto& r : w.desc().robots) controlled += r.ctrl.empty() ? 0 : 1;
+  // --no-ctrl leaves every robot to the wire, whatever the world file names.
+  if (!options.no_ctrl) {
+    for (const auto& r : w.desc().robots) controlled += r.ctrl.empty() ? 0 : 1;
+  }
   troupe::log_info("%s: %zu robots (%zu with controllers), step %.0f ms, seed %llu", options.world.c_str(),
                    w.robot_count(), controlled, w.interval() * 1e3,
                    static_cast<unsigned long long>(options.seed));
@@ -86,6 +89,15 @@ int main(int argc, char** argv) {
     std::printf("listening on %s:%u\n", options.listen.c_str(), unsigned(runner.port()));
     std::fflush(stdout);
     troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(runner.port()));
+  }
+  // The emulated devices, one "ROBOT DEVICE PATH" line each, for scripts.
+  if (!runner.emulation().empty()) {
+    std::fputs(runner.emulation().info().c_str(), stdout);
+    std::fflush(stdout);
+    for (const auto& d : runner.emulation().devices()) {
+      troupe::log_info("robot %s emulated as %s hardware on %s", d.robot_name.c_str(),
+                       troupe::sim::emulated_kind_name(d.kind), d.path.c_str());
+    }
   }
   std::unique_ptr<troupe::viewer::ViewServer> viewer;
   if (options.serve && options.view) {

@@ -37,9 +37,19 @@ const char* sim_usage() {
          "  --profile               print the time spent in each phase of the step at the end\n"
          "  --log-level LEVEL       error, warn, info (default) or debug\n"
          "\n"
+         "hardware in the loop (SITL):\n"
+         "  --emulate ROBOT=DEVS    present a robot (name or number) as hardware: DEVS is\n"
+         "                          p2os (its base as a Pioneer), sicklms200 (its laser as a\n"
+         "                          SICK LMS200) or both, comma-separated; each on a new\n"
+         "                          pseudo-terminal, printed as a line ROBOT DEVICE PATH\n"
+         "                          (repeatable, one per robot)\n"
+         "  --emulate-info FILE     also write those lines to FILE (complete when it appears)\n"
+         "  --emulate-links DIR     also name each device DIR/ROBOT-DEVICE (a symbolic link)\n"
+         "\n"
          "examples:\n"
          "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
-         "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n";
+         "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n"
+         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n";
 }
 
 namespace {
@@ -142,6 +152,15 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
     } else if (a == "--ctrl-path") {
       if (!value(t)) return false;
       out.ctrl_path.push_back(t);
+    } else if (a == "--emulate") {
+      if (!value(t)) return false;
+      out.emulate.push_back(t);
+    } else if (a == "--emulate-info") {
+      if (!value(t)) return false;
+      out.emulate_info = t;
+    } else if (a == "--emulate-links") {
+      if (!value(t)) return false;
+      out.emulate_links = t;
     } else if (a == "--log-level") {
       if (!value(t)) return false;
       out.log_level = t;

@@ -41,6 +41,13 @@ struct SimOptions {
   bool no_ctrl = false;
   bool profile = false;  // print the time per phase at the end
   std::string log_level = "info";
+  /// --emulate ROBOT=DEVICE[,DEVICE]: robots presented as hardware on
+  /// pseudo-terminals (SITL); see emulation.h.
+  std::vector<std::string> emulate;
+  /// Also write the emulated devices' "ROBOT DEVICE PATH" lines here.
+  std::string emulate_info;
+  /// Give each emulated device a stable name in this folder: ROBOT-DEVICE.
+  std::string emulate_links;
 };
 
 /// Parses argv. False with `error` (which names the bad argument); `help`

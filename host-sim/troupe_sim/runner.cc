@@ -47,6 +47,10 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   copts.ignore_missing = options.ignore_missing_ctrl;
   if (!options.no_ctrl && !controllers_.load(*world_, copts, diags)) return false;
 
+  // Before the servers: the sensors the emulators read stay computed
+  // whether or not a client reads them over the wire.
+  if (!start_emulation(error)) return false;
+
   const WorldDesc& d = world_->desc();
   control_.paused = options.paused || d.paused;
   control_.speed = options.fast ? 0 : (options.speed >= 0 ? options.speed : std::max(0.0, d.speedup));
@@ -82,6 +86,39 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   return true;
 }
 
+bool Runner::start_emulation(std::string& error) {
+  for (const std::string& spec : options_.emulate) {
+    if (!emulation_.add(*world_, spec, error)) return false;
+  }
+  if (emulation_.empty()) return true;
+  if (!emulation_.open(options_.emulate_links, error)) return false;
+  if (!options_.emulate_info.empty()) {
+    // Written aside and renamed, so a script that waits for the file reads
+    // it whole.
+    const std::string tmp = options_.emulate_info + ".tmp";
+    FILE* f = std::fopen(tmp.c_str(), "w");
+    const std::string text = emulation_.info();
+    const bool written = f && std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (f && std::fclose(f) != 0) f = nullptr;
+    if (!written || !f || std::rename(tmp.c_str(), options_.emulate_info.c_str()) != 0) {
+      error = "--emulate-info: cannot write " + options_.emulate_info;
+      std::remove(tmp.c_str());
+      return false;
+    }
+  }
+  emulation_wall_us_ = monotonic_us();
+  return true;
+}
+
+void Runner::step_emulation() {
+  if (emulation_.empty()) return;
+  const uint64_t now = monotonic_us();
+  const bool real_time = !control_.paused && control_.speed > 0;
+  emulation_clock_us_ += double(now - emulation_wall_us_) * (real_time ? control_.speed : 1.0);
+  emulation_wall_us_ = now;
+  emulation_.step(uint64_t(emulation_clock_us_));
+}
+
 uint16_t Runner::port() const {
   return options_.serve && !nodes_.empty() ? nodes_.front()->port() : 0;
 }
@@ -91,8 +128,13 @@ uint16_t Runner::robot_port(RobotId id) const {
 }
 
 void Runner::serve(int64_t wait_us) {
+  // Emulated devices are stepped between polls: often enough that a driver's
+  // request is answered within a few milliseconds, as hardware would.
+  const int64_t kEmulationWaitUs = 4000;
+  if (!emulation_.empty()) wait_us = std::min(wait_us, kEmulationWaitUs);
   for (size_t i = 1; i < nodes_.size(); ++i) nodes_[i]->poll(0);
   nodes_.front()->poll(wait_us);
+  step_emulation();
   // A sensor someone started reading is computed at once while paused, so
   // the reader does not wait for the next step.
   bool woke = false;

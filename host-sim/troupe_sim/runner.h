@@ -11,6 +11,7 @@
 #include "host-sim/sim/controller_host.h"
 #include "host-sim/sim/trajectory_log.h"
 #include "host-sim/sim/world.h"
+#include "host-sim/troupe_sim/emulation.h"
 #include "host-sim/troupe_sim/options.h"
 #include "host-sim/troupe_sim/sim_server.h"
 #include "runtime/node.h"
@@ -39,12 +40,16 @@ class Runner {
   uint16_t robot_port(RobotId id) const;
   World& world() { return *world_; }
   Node& node() { return *nodes_.front(); }
+  /// The robots presented as hardware (--emulate).
+  const Emulation& emulation() const { return emulation_; }
 
  private:
   void step(uint32_t n);
   void serve(int64_t wait_us);
   void progress(bool final);
   void reset();
+  bool start_emulation(std::string& error);
+  void step_emulation();
 
   SimOptions options_;
   std::unique_ptr<World> world_;
@@ -52,6 +57,13 @@ class Runner {
   SimControl control_;
   std::vector<std::unique_ptr<Node>> nodes_;
   std::vector<SimServer*> servers_;  // owned by their nodes
+  Emulation emulation_;
+  // The emulated devices' clock, us: it runs at the simulation's speed in
+  // real-time mode (a SIP every 100 ms of simulated time) and at wall speed
+  // while paused or running fast, so the devices keep answering their
+  // drivers, whose timeouts are in wall time.
+  double emulation_clock_us_ = 0;
+  uint64_t emulation_wall_us_ = 0;
   TrajectoryLog log_;
   double quit_time_ = 0;
   double next_snapshot_ = 0;
