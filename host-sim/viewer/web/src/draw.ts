@@ -87,7 +87,7 @@ function drawGrid(ctx: CanvasRenderingContext2D, view: View, w: number, h: numbe
 
 function drawTrail(ctx: CanvasRenderingContext2D, view: View, r: Robot, selected: boolean): void {
   if (r.trail.length < 2) return;
-  ctx.strokeStyle = selected ? 'rgba(30, 90, 200, 0.9)' : 'rgba(0, 0, 0, 0.15)';
+  ctx.strokeStyle = selected ? 'rgba(30, 90, 200, 0.9)' : 'rgba(90, 70, 40, 0.4)';
   ctx.lineWidth = selected ? 2 : 1;
   ctx.beginPath();
   r.trail.forEach((p, i) => {

@@ -238,6 +238,10 @@ function updatePanel(): void {
   $('clock').textContent = mode === 'sim' ?
     `t = ${scene.simTime.toFixed(1)} s${scene.paused ? ' (paused)' : ''}, ×${fmt(scene.realTimeFactor)}` : '';
   $('pause').textContent = scene.paused ? 'Resume' : 'Pause';
+  // Show the simulator's speed (another client, or --speed, may set it).
+  const speed = $<HTMLSelectElement>('speed');
+  const option = [...speed.options].find((o) => Number(o.value) === scene.speed);
+  if (document.activeElement !== speed && option) speed.value = option.value;
   document.body.dataset.paused = String(scene.paused);
   if (ready) {
     const what = mode === 'sim' ? `troupe-sim, ${scene.robots.length} robots` :
