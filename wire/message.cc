@@ -71,7 +71,9 @@ uint16_t body_interface(Body body) {
     case Body::SimModel:
     case Body::SimPose:
     case Body::SimGame:
-    case Body::SimPlayer: return code(I::Simulation);
+    case Body::SimPlayer:
+    case Body::SimModelList:
+    case Body::SimPoses: return code(I::Simulation);
     case Body::OpaqueBytes: return code(I::Opaque);
   }
   return code(I::None);

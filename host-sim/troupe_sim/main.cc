@@ -6,8 +6,10 @@
 
 #include <cstdio>
 #include <cstring>
+#include <memory>
 
 #include "host-sim/troupe_sim/runner.h"
+#include "host-sim/viewer/view_server.h"
 #include "runtime/log.h"
 
 namespace {
@@ -95,6 +97,31 @@ int main(int argc, char** argv) {
     for (const auto& d : runner.emulation().devices()) {
       troupe::log_info("robot %s emulated as %s hardware on %s", d.robot_name.c_str(),
                        troupe::sim::emulated_kind_name(d.kind), d.path.c_str());
+    }
+  }
+  std::unique_ptr<troupe::viewer::ViewServer> viewer;
+  if (options.serve && options.view) {
+    troupe::viewer::ViewOptions vo;
+    vo.listen = options.view_listen;
+    vo.http_port = options.view_port;
+    // The bridge reaches the node over loopback unless it listens elsewhere.
+    const bool any = options.listen == "0.0.0.0" || options.listen == "::";
+    vo.node_host = any ? "127.0.0.1" : options.listen;
+    vo.node_port = runner.port();
+    vo.web_root = troupe::viewer::default_web_root();
+    viewer = std::make_unique<troupe::viewer::ViewServer>(vo);
+    if (!viewer->open(error)) {
+      viewer.reset();
+      if (options.view_asked) {
+        std::fprintf(stderr, "troupe-sim: viewer: %s\n", error.c_str());
+        return 1;
+      }
+      troupe::log_warn("no browser viewer: %s (--view P picks another port)", error.c_str());
+    } else {
+      // Its own line on stdout, like the port: tests read it.
+      std::printf("viewer at %s\n", viewer->url().c_str());
+      std::fflush(stdout);
+      viewer->start_thread();
     }
   }
   return runner.run();

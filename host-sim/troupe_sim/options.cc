@@ -24,6 +24,10 @@ const char* sim_usage() {
          "  --listen ADDR           address to listen on (default 127.0.0.1)\n"
          "  --port-per-robot        also serve robot i alone as robot 0 on port P+1+i\n"
          "  --no-serve              no network at all (batch runs)\n"
+         "  --view [P]              browser viewer on HTTP port P (default 6680; 0: any free\n"
+         "                          port); on by default, its URL is printed\n"
+         "  --view-listen ADDR      address the viewer listens on (default 127.0.0.1)\n"
+         "  --no-view               no browser viewer\n"
          "  --snapshot FILE.png     picture of the world at the end\n"
          "  --snapshot-every S      ... and every S simulated seconds\n"
          "  --log FILE.csv          trajectory log: time,robot,x,y,a every step\n"
@@ -119,6 +123,23 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
         return false;
       }
       out.port = uint16_t(d);
+    } else if (a == "--view") {
+      out.view = out.view_asked = true;
+      // The port is optional: taken only when the next argument is a number.
+      if (i + 1 < argc && number(argv[i + 1], d)) {
+        if (d < 0 || d > 65535 || d != std::floor(d)) {
+          error = "--view: not a port number (0..65535)";
+          return false;
+        }
+        out.view_port = uint16_t(d);
+        ++i;
+      }
+    } else if (a == "--no-view") {
+      out.view = false;
+    } else if (a == "--view-listen") {
+      if (!value(t)) return false;
+      out.view_listen = t;
+      out.view = out.view_asked = true;
     } else if (a == "--listen") {
       if (!value(t)) return false;
       out.listen = t;

@@ -24,7 +24,14 @@ struct SimOptions {
   uint16_t port = 6665;
   /// Also serve robot i alone, as robot 0, on port + 1 + i.
   bool port_per_robot = false;
-  bool serve = true;          // --no-serve: no sockets at all (batch runs)
+  bool serve = true;  // --no-serve: no sockets at all (batch runs)
+  /// The browser viewer (HTTP + WebSocket bridge to the main port).
+  bool view = true;
+  /// --view given: failing to bind its port is then an error, not a warning.
+  bool view_asked = false;
+  /// Viewer HTTP port; 0 picks a free one (printed).
+  uint16_t view_port = 6680;
+  std::string view_listen = "127.0.0.1";
   std::string snapshot;       // PNG written at the end (and every snapshot_every s)
   double snapshot_every = 0;  // s of simulated time; 0: only at the end
   std::string log;            // trajectory CSV

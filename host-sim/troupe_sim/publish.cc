@@ -30,6 +30,9 @@ void SimServer::publish() {
         break;
       case Kind::Simulation:
         publish_clock(d);
+        publish_poses(d);
+        break;
+      case Kind::Map:
         break;
     }
   }

@@ -13,7 +13,8 @@ void SimServer::add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::
                     uint16_t local) {
   const bool alone = only_ >= 0;
   const uint16_t number = alone ? 0 : uint16_t(robot);
-  const std::string name = kind == Kind::Simulation ? std::string() : world_.robot(robot).name;
+  const bool world_wide = kind == Kind::Simulation || kind == Kind::Map;
+  const std::string name = world_wide ? std::string() : world_.robot(robot).name;
   Device d;
   d.kind = kind;
   d.robot = robot;
@@ -46,7 +47,10 @@ bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
     }
     if (info.has_power) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
   }
-  if (only_ < 0) add(node, Kind::Simulation, 0, 0, wire::Interface::Simulation, 0);
+  if (only_ < 0) {
+    add(node, Kind::Simulation, 0, 0, wire::Interface::Simulation, 0);
+    add(node, Kind::Map, 0, 0, wire::Interface::Map, 0);
+  }
   for (Device& d : devices_) {
     if (d.id == kNoDevice) {
       error = "two devices with one address";
@@ -114,6 +118,8 @@ void SimServer::on_request(DeviceId id, const wire::Message& req, RequestToken t
       return simulation_request(req, token);
     case Kind::Position:
       return position_request(*d, req, token);
+    case Kind::Map:
+      return map_request(*d, req, token);
     case Kind::Ranger:
       return ranger_request(*d, req, token);
     case Kind::Fiducial:
@@ -305,6 +311,8 @@ void SimServer::simulation_request(const wire::Message& req, RequestToken token)
       // A Stage world has no game and no player plugins (RoboCup mode has:
       // troupe-robocup --serve).
       return node_->nack(token, ErrorCode::Unsupported, "troupe-sim has no game and no player plugins");
+    case Sub::Models:
+      return models_request(token);
   }
   node_->nack(token, ErrorCode::Unsupported, "unknown simulation request");
 }

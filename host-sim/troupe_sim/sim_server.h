@@ -1,7 +1,8 @@
 // Serves a simulated world over the wire: one runtime Driver that provides
 // every robot's devices (robot i, named by its world-file name:
 // position2d:0, ranger:k, blobfinder:k, fiducial:k, bumper:k, power:0) and
-// the simulation:0 device. Commands go to the robots; after every step the
+// the simulation:0 and map:0 devices (map:0: the static obstacles as an
+// occupancy grid, for viewers). Commands go to the robots; after every step the
 // data of each device that someone reads is published, and a sensor is
 // computed only while it is read (or a controller wants it).
 #pragma once
@@ -51,7 +52,7 @@ class SimServer final : public Driver {
   size_t device_count() const { return devices_.size(); }
 
  private:
-  enum class Kind : uint8_t { Position, Ranger, Blobfinder, Fiducial, Bumper, Power, Simulation };
+  enum class Kind : uint8_t { Position, Ranger, Blobfinder, Fiducial, Bumper, Power, Simulation, Map };
   struct Device {
     DeviceId id = kNoDevice;
     Kind kind;
@@ -70,10 +71,13 @@ class SimServer final : public Driver {
   void publish_bumper(const Device& d);
   void publish_power(const Device& d);
   void publish_clock(const Device& d);
+  void publish_poses(const Device& d);
   void ack_clock(RequestToken token);
   void simulation_request(const wire::Message& request, RequestToken token);
   void position_request(Device& d, const wire::Message& request, RequestToken token);
   void ranger_request(const Device& d, const wire::Message& request, RequestToken token);
+  void models_request(RequestToken token);
+  void map_request(const Device& d, const wire::Message& request, RequestToken token);
 
   World& world_;
   SimControl& control_;
@@ -81,6 +85,8 @@ class SimServer final : public Driver {
   std::vector<Device> devices_;
   DeviceId first_ = kNoDevice;
   std::vector<uint16_t> scratch_ranges_;
+  std::vector<wire::Pose2d> scratch_poses_;
+  std::vector<uint8_t> scratch_cells_;
 };
 
 }  // namespace troupe::sim

@@ -59,7 +59,7 @@ TEST_F(WireTest, ListsEveryRobotsDevicesAndTheSimulation) {
   std::vector<std::string> names;
   for (const auto& d : devices) names.push_back(d.text());
   EXPECT_EQ(names,
-            (std::vector<std::string>{"r0/position2d:0", "r0/ranger:0", "r1/position2d:0", "simulation:0"}));
+            (std::vector<std::string>{"r0/position2d:0", "r0/ranger:0", "r1/position2d:0", "simulation:0", "map:0"}));
   wire::Address a;
   ASSERT_TRUE(c.resolve("r1/position2d:0", a));
   EXPECT_EQ(a.robot(), 1);

@@ -1,0 +1,20 @@
+// What the viewer server's sessions share. Touched only on the server's
+// asio thread.
+#pragma once
+
+#include <boost/asio/ip/tcp.hpp>
+#include <cstdint>
+
+#include "host-sim/viewer/view_server.h"
+
+namespace troupe::viewer {
+
+struct ServerState {
+  ViewOptions options;
+  /// The node's addresses, resolved once at open().
+  boost::asio::ip::tcp::resolver::results_type node;
+  /// WebSockets open now.
+  uint32_t sessions = 0;
+};
+
+}  // namespace troupe::viewer

@@ -1,0 +1,194 @@
+// The wire protocol over a WebSocket: one binary message is one frame
+// (size prefix included), exactly as on the node's TCP port. The server
+// bridges it to the node unchanged, so this is a Troupe client like any other.
+import * as flatbuffers from 'flatbuffers';
+import * as W from 'troupe-wire';
+
+/// Wire protocol version spoken (Hello.protocol_version).
+const kProtocolVersion = 1;
+/// Largest frame accepted, bytes (the node's default limit).
+const kMaxFrameBytes = 1 << 20;
+
+export interface Address {
+  robot: number;
+  iface: number;
+  index: number;
+}
+
+export interface DeviceEntry {
+  addr: Address;
+  robotName: string;
+  driver: string;
+  /// "r0/ranger:1" or "simulation:0", as the CLI writes it.
+  text: string;
+}
+
+/// A reply: the Ack's message, or an Error for a Nack.
+export class RequestFailed extends Error {}
+
+type Pending = { resolve: (m: W.Message) => void; reject: (e: Error) => void };
+export type DataHandler = (msg: W.Message, addr: Address) => void;
+
+export const ifaceNames: Record<number, string> = {
+  1: 'position2d', 2: 'ranger', 3: 'power', 4: 'bumper', 5: 'blobfinder', 6: 'fiducial', 7: 'actuator',
+  8: 'imu', 9: 'localize', 10: 'map', 11: 'simulation', 12: 'opaque',
+};
+
+export function addrKey(a: Address): string {
+  return `${a.robot}/${a.iface}:${a.index}`;
+}
+
+export class Connection {
+  private ws: WebSocket;
+  private seq = 1;
+  private pending = new Map<number, Pending>();
+  /// Called for every Data frame.
+  onData: DataHandler = () => {};
+  /// Called once when the connection ends, with the reason.
+  onClose: (reason: string) => void = () => {};
+  nodeName = '';
+  framesIn = 0;
+  /// Requests still waiting for their reply.
+  get pendingCount(): number {
+    return this.pending.size;
+  }
+
+  constructor(url: string, private onOpen: () => void) {
+    this.ws = new WebSocket(url);
+    this.ws.binaryType = 'arraybuffer';
+    this.ws.onopen = () => {
+      this.sendHello();
+      this.onOpen();
+    };
+    this.ws.onmessage = (ev) => this.receive(new Uint8Array(ev.data as ArrayBuffer));
+    this.ws.onclose = (ev) => {
+      const why = ev.reason || `connection closed (code ${ev.code})`;
+      for (const p of this.pending.values()) p.reject(new RequestFailed(why));
+      this.pending.clear();
+      this.onClose(why);
+    };
+  }
+
+  close(): void {
+    this.ws.close();
+  }
+
+  private now(): bigint {
+    return BigInt(Math.round(performance.now() * 1000));
+  }
+
+  /// Builds and sends one frame; `body` adds the body and returns its type.
+  private send(kind: W.Kind, addr: Address, subtype: number, seq: number,
+               body?: (b: flatbuffers.Builder) => [W.Body, flatbuffers.Offset]): void {
+    const b = new flatbuffers.Builder(256);
+    let type = W.Body.NONE;
+    let offset = 0;
+    if (body) [type, offset] = body(b);
+    const t = this.now();
+    W.Message.startMessage(b);
+    W.Message.addBodyType(b, type);
+    W.Message.addHeader(b, W.Header.createHeader(b, addr.robot, addr.iface, addr.index, kind, subtype, seq,
+                                                 Number(t & 0xffffffffn), Number(t >> 32n)));
+    if (body) W.Message.addBody(b, offset);
+    W.Message.finishSizePrefixedMessageBuffer(b, W.Message.endMessage(b));
+    this.ws.send(b.asUint8Array());
+  }
+
+  private sendHello(): void {
+    this.send(W.Kind.Hello, { robot: 0, iface: 0, index: 0 }, 0, 0, (b) => {
+      const name = b.createString('troupe-viewer');
+      return [W.Body.Hello, W.Hello.createHello(b, kProtocolVersion, name, kMaxFrameBytes, 0, this.now())];
+    });
+  }
+
+  private expect(seq: number): Promise<W.Message> {
+    return new Promise((resolve, reject) => this.pending.set(seq, { resolve, reject }));
+  }
+
+  /// Sends raw bytes (the tests' bad input).
+  sendRaw(bytes: Uint8Array): void {
+    this.ws.send(bytes);
+  }
+
+  async deviceList(): Promise<DeviceEntry[]> {
+    const seq = this.seq++;
+    const reply = this.expect(seq);
+    this.send(W.Kind.DeviceList, { robot: 0, iface: 0, index: 0 }, 0, seq);
+    const msg = await reply;
+    const list = msg.body(new W.DeviceList()) as W.DeviceList;
+    const out: DeviceEntry[] = [];
+    for (let i = 0; i < list.devicesLength(); ++i) {
+      const d = list.devices(i)!;
+      const a = d.addr()!;
+      const addr = { robot: a.robot(), iface: a.iface(), index: a.index() };
+      const robotName = d.robotName() || '';
+      const name = `${ifaceNames[addr.iface] || 'iface' + addr.iface}:${addr.index}`;
+      out.push({ addr, robotName, driver: d.driver() || '', text: robotName ? `${robotName}/${name}` : name });
+    }
+    return out;
+  }
+
+  /// Opens a device for reading (Data pushed) or for everything.
+  async open(addr: Address, access: W.Access = W.Access.Read): Promise<void> {
+    const seq = this.seq++;
+    const reply = this.expect(seq);
+    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push)]);
+    await reply;
+  }
+
+  /// Stops reading a device (its sensor may then stop being computed).
+  async closeDevice(addr: Address): Promise<void> {
+    const seq = this.seq++;
+    const reply = this.expect(seq);
+    this.send(W.Kind.Close, addr, 0, seq);
+    await reply;
+  }
+
+  /// A Request; resolves with the Ack, rejects with the Nack's text.
+  async request(addr: Address, subtype: number,
+                body?: (b: flatbuffers.Builder) => [W.Body, flatbuffers.Offset]): Promise<W.Message> {
+    const seq = this.seq++;
+    const reply = this.expect(seq);
+    this.send(W.Kind.Request, addr, subtype, seq, body);
+    return reply;
+  }
+
+  private receive(bytes: Uint8Array): void {
+    ++this.framesIn;
+    const bb = new flatbuffers.ByteBuffer(bytes);
+    const msg = W.Message.getSizePrefixedRootAsMessage(bb);
+    const h = msg.header();
+    if (!h) return;
+    const a = h.addr();
+    const addr = { robot: a.robot(), iface: a.iface(), index: a.index() };
+    switch (h.kind()) {
+      case W.Kind.Data:
+        this.onData(msg, addr);
+        return;
+      case W.Kind.Hello: {
+        const hello = msg.body(new W.Hello()) as W.Hello | null;
+        this.nodeName = hello?.name() || '';
+        return;
+      }
+      case W.Kind.Ack:
+      case W.Kind.DeviceList:
+      case W.Kind.Nack: {
+        const p = this.pending.get(h.seq());
+        if (!p) return;
+        this.pending.delete(h.seq());
+        if (h.kind() === W.Kind.Nack) {
+          const e = msg.body(new W.Error()) as W.Error | null;
+          p.reject(new RequestFailed(e?.text() || 'refused'));
+        } else {
+          p.resolve(msg);
+        }
+        return;
+      }
+      case W.Kind.Error: {
+        const e = msg.body(new W.Error()) as W.Error | null;
+        console.warn('node error:', e?.text());
+        return;
+      }
+    }
+  }
+}

@@ -1,0 +1,238 @@
+// What the page knows about the world: robots (ground truth from
+// simulation:0, or odometry from a node's position2d), their trails, the
+// map, and the latest data of each device it reads. Units are the wire's:
+// m, rad; times in s.
+import * as W from 'troupe-wire';
+import { Address, addrKey, Connection, DeviceEntry } from './connection';
+
+export interface Pose {
+  x: number; // m
+  y: number; // m
+  a: number; // rad
+}
+
+export interface Robot {
+  name: string;
+  /// wire robot number of its devices
+  number: number;
+  pose: Pose;
+  size: [number, number]; // m
+  color: string;
+  trail: Pose[];
+  /// On a node: the position2d index whose odometry places the robot (a
+  /// node may serve several estimates of one robot).
+  poseIndex?: number;
+}
+
+/// A ranger's mounting (robot frame) and its latest scan's beam ends.
+export interface RangerView {
+  mount: Pose; // robot frame, m, rad
+  elements: Pose[]; // per transducer (sonar rings), robot frame
+  ranges: number[]; // m
+  minAngle: number; // rad, relative to the mount
+  resolution: number; // rad between beams; 0: one beam per element
+  maxRange: number; // m
+}
+
+export interface MapImage {
+  width: number; // cells
+  height: number; // cells
+  resolution: number; // m per cell
+  origin: Pose; // corner of cell (0, 0), m
+  canvas: HTMLCanvasElement;
+}
+
+/// A trail keeps this many poses, the newest last.
+const kTrailPoses = 300;
+/// A new trail point only after this much motion, m.
+const kTrailStep = 0.02;
+/// Largest map tile asked for, cells a side (the map interface's limit).
+const kTile = 512;
+
+export function colorOf(rgb: number): string {
+  return '#' + (rgb & 0xffffff).toString(16).padStart(6, '0');
+}
+
+export function compose(a: Pose, b: Pose): Pose {
+  const c = Math.cos(a.a), s = Math.sin(a.a);
+  return { x: a.x + c * b.x - s * b.y, y: a.y + s * b.x + c * b.y, a: a.a + b.a };
+}
+
+export function pushTrail(r: Robot): void {
+  const last = r.trail[r.trail.length - 1];
+  if (last && Math.hypot(last.x - r.pose.x, last.y - r.pose.y) < kTrailStep) return;
+  r.trail.push({ ...r.pose });
+  if (r.trail.length > kTrailPoses) r.trail.splice(0, r.trail.length - kTrailPoses);
+}
+
+export class Scene {
+  robots: Robot[] = [];
+  byNumber = new Map<number, Robot>();
+  devices: DeviceEntry[] = [];
+  map: MapImage | null = null;
+  /// Latest value of each device read, by addrKey, as text for the panel.
+  values = new Map<string, string>();
+  rangers = new Map<string, RangerView>();
+  blobs = new Map<string, { width: number; height: number; list: { color: number; x: number; y: number; l: number; r: number; t: number; b: number }[] }>();
+  fiducials = new Map<string, { id: number; x: number; y: number; a: number }[]>();
+  simTime = 0; // s
+  steps = 0;
+  paused = false;
+  speed = 1;
+  realTimeFactor = 0;
+
+  robot(name: string): Robot | undefined {
+    return this.robots.find((r) => r.name === name);
+  }
+
+  /// Fetches the map of a map device as one image (tile by tile).
+  async loadMap(c: Connection, addr: Address): Promise<void> {
+    const infoMsg = await c.request(addr, W.MapReqSub.Info);
+    const info = infoMsg.body(new W.MapInfo()) as W.MapInfo;
+    const w = info.width(), h = info.height();
+    if (w === 0 || h === 0) return;
+    const o = info.origin();
+    const canvas = document.createElement('canvas');
+    canvas.width = w;
+    canvas.height = h;
+    const ctx = canvas.getContext('2d')!;
+    const image = ctx.createImageData(w, h);
+    for (let row = 0; row < h; row += kTile) {
+      for (let col = 0; col < w; col += kTile) {
+        const tw = Math.min(kTile, w - col), th = Math.min(kTile, h - row);
+        const msg = await c.request(addr, W.MapReqSub.Tile, (b) =>
+          [W.Body.MapTileRequest, W.MapTileRequest.createMapTileRequest(b, col, row, tw, th)]);
+        const tile = msg.body(new W.MapTile()) as W.MapTile;
+        const cells = tile.cellsArray() || new Uint8Array(0);
+        for (let i = 0; i < tw * th; ++i) {
+          const v = ((cells[i >> 2] ?? 0) >> (2 * (i & 3))) & 3;
+          const x = col + (i % tw), y = row + Math.floor(i / tw);
+          // Row 0 is the bottom of the map (y up); images go down.
+          const p = ((h - 1 - y) * w + x) * 4;
+          const shade = v === W.Cell.Occupied ? 40 : v === W.Cell.Unknown ? 200 : 255;
+          image.data[p] = image.data[p + 1] = image.data[p + 2] = shade;
+          image.data[p + 3] = v === W.Cell.Free ? 0 : 255;
+        }
+      }
+    }
+    ctx.putImageData(image, 0, 0);
+    this.map = { width: w, height: h, resolution: info.resolution(),
+                 origin: { x: o ? o.x() : 0, y: o ? o.y() : 0, a: o ? o.a() : 0 }, canvas };
+  }
+
+  /// Reads a ranger's mounting; a device that does not say is at the
+  /// robot's centre.
+  async loadRanger(c: Connection, addr: Address): Promise<void> {
+    const view: RangerView = { mount: { x: 0, y: 0, a: 0 }, elements: [], ranges: [], minAngle: 0, resolution: 0,
+                               maxRange: 0 };
+    try {
+      const msg = await c.request(addr, W.RangerReqSub.Geometry);
+      const g = msg.body(new W.RangerGeometry()) as W.RangerGeometry;
+      const p = g.pose();
+      if (p) view.mount = { x: p.x(), y: p.y(), a: p.yaw() };
+      for (let i = 0; i < g.elementsLength(); ++i) {
+        const e = g.elements(i)!;
+        view.elements.push({ x: e.x(), y: e.y(), a: e.yaw() });
+      }
+    } catch (e) {
+      // No geometry (e.g. a logged laser): beams from the robot's centre.
+    }
+    this.rangers.set(addrKey(addr), view);
+  }
+
+  /// Applies one Data frame.
+  onData(msg: W.Message, addr: Address): void {
+    const key = addrKey(addr);
+    switch (msg.bodyType()) {
+      case W.Body.SimClock: {
+        const s = msg.body(new W.SimClock()) as W.SimClock;
+        this.simTime = Number(s.simTimeUs()) / 1e6;
+        this.steps = Number(s.steps());
+        this.paused = s.paused();
+        this.speed = s.speed();
+        this.realTimeFactor = s.realTimeFactor();
+        return;
+      }
+      case W.Body.SimPoses: {
+        const s = msg.body(new W.SimPoses()) as W.SimPoses;
+        const n = Math.min(s.posesLength(), this.robots.length);
+        for (let i = 0; i < n; ++i) {
+          const p = s.poses(i)!;
+          const r = this.robots[i];
+          r.pose = { x: p.x(), y: p.y(), a: p.a() };
+          pushTrail(r);
+        }
+        return;
+      }
+      case W.Body.Position2dState: {
+        const s = msg.body(new W.Position2dState()) as W.Position2dState;
+        const p = s.pose(), v = s.vel();
+        this.values.set(key, `odometry ${fmt(p?.x())}, ${fmt(p?.y())} m, ${fmt(p?.a())} rad; ` +
+                             `velocity ${fmt(v?.x())} m/s, ${fmt(v?.a())} rad/s${s.stall() ? '; STALLED' : ''}`);
+        const r = this.byNumber.get(addr.robot);
+        // A node's robot is drawn where its odometry says.
+        if (r && p && this.odometryPoses && addr.index === r.poseIndex) {
+          r.pose = { x: p.x(), y: p.y(), a: p.a() };
+          pushTrail(r);
+        }
+        return;
+      }
+      case W.Body.RangerScan: {
+        const s = msg.body(new W.RangerScan()) as W.RangerScan;
+        const raw = s.rangesArray() || new Uint16Array(0);
+        const scale = s.scale();
+        const view = this.rangers.get(key);
+        const ranges = Array.from(raw, (v) => v * scale);
+        if (view) {
+          view.ranges = ranges;
+          view.minAngle = s.minAngle();
+          view.resolution = s.angularRes();
+          view.maxRange = s.maxRange();
+        }
+        const near = ranges.length ? Math.min(...ranges) : NaN;
+        this.values.set(key, `${ranges.length} ranges, nearest ${fmt(near)} m, max ${fmt(s.maxRange())} m`);
+        return;
+      }
+      case W.Body.BlobList: {
+        const s = msg.body(new W.BlobList()) as W.BlobList;
+        const list = [];
+        for (let i = 0; i < s.blobsLength(); ++i) {
+          const b = s.blobs(i)!;
+          list.push({ color: b.color(), x: b.x(), y: b.y(), l: b.left(), r: b.right(), t: b.top(), b: b.bottom() });
+        }
+        this.blobs.set(key, { width: s.width(), height: s.height(), list });
+        this.values.set(key, `${list.length} blobs` + list.map((b) => ` ${colorOf(b.color)}@${b.x},${b.y}`).join(''));
+        return;
+      }
+      case W.Body.FiducialList: {
+        const s = msg.body(new W.FiducialList()) as W.FiducialList;
+        const list = [];
+        for (let i = 0; i < s.fiducialsLength(); ++i) {
+          const f = s.fiducials(i)!;
+          list.push({ id: f.id(), x: f.x(), y: f.y(), a: f.yaw() });
+        }
+        this.fiducials.set(key, list);
+        this.values.set(key, `${list.length} fiducials` + list.map((f) => ` #${f.id}`).join(''));
+        return;
+      }
+      case W.Body.PowerState: {
+        const s = msg.body(new W.PowerState()) as W.PowerState;
+        this.values.set(key, `${fmt(s.percent() ?? NaN)} %, ${fmt(s.joules() ?? NaN)} J, ${fmt(s.watts() ?? NaN)} W`);
+        return;
+      }
+      case W.Body.BumperState: {
+        const s = msg.body(new W.BumperState()) as W.BumperState;
+        this.values.set(key, `bumpers ${s.pressed().toString(2)}`);
+        return;
+      }
+    }
+  }
+
+  /// True when robots are placed by their odometry (a node), not by
+  /// simulation:0's ground truth.
+  odometryPoses = false;
+}
+
+export function fmt(v: number | undefined | null): string {
+  return v === undefined || v === null || Number.isNaN(v) ? '-' : v.toFixed(2);
+}

@@ -1,0 +1,251 @@
+// The viewer page in headless Chromium (Playwright). troupe-sim serves
+// swarm100.world with its viewer; the test checks that the page shows every
+// robot, that pause stops simulated time and resume restarts it, that
+// dragging a robot teleports it (its ground truth asked with `troupe req`),
+// that a WebSocket sending garbage is closed while the page goes on, and
+// that troupe-view shows a live troupe-node's devices (a kinematic base
+// driven with `troupe cmd`; with the shared data, a CARMEN log's laser and
+// odometry). Screenshots are kept in the build tree.
+//
+// usage: node viewer_browser_test.mjs --bin DIR --node PATH --modules DIR --source DIR --out DIR [--shared DIR]
+// Exit 0: passed, 1: failed, 77: skipped (no Chromium).
+import { spawn, execFile } from 'node:child_process';
+import { existsSync, mkdtempSync, writeFileSync, rmSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+
+const args = {};
+for (let i = 2; i + 1 < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
+const kChromium = '/usr/bin/chromium';
+// Every wait is for a condition; this only bounds a broken run.
+const kDeadlineMs = 60000;
+
+if (!existsSync(kChromium)) {
+  console.log(`SKIP: ${kChromium} is missing (Debian: apt-get install chromium)`);
+  process.exit(77);
+}
+const require = createRequire(join(args.modules, 'noop.js'));
+const { chromium } = require('playwright-core');
+
+let failures = 0;
+function check(ok, what, detail = '') {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}${detail ? ': ' + detail : ''}`);
+  if (!ok) failures++;
+  return ok;
+}
+
+const children = [];
+/// Starts a program and resolves with it once `pattern` matched a line of
+/// its output (stdout or stderr); the match is returned too.
+function start(program, argv, patterns) {
+  return new Promise((resolve, reject) => {
+    const child = spawn(program, argv, { stdio: ['ignore', 'pipe', 'pipe'] });
+    children.push(child);
+    let out = '';
+    const found = {};
+    const timer = setTimeout(() => reject(new Error(`${program}: no ${Object.keys(patterns)} in:\n${out}`)),
+                             kDeadlineMs);
+    const onData = (d) => {
+      out += d.toString();
+      for (const [k, re] of Object.entries(patterns)) {
+        const m = out.match(re);
+        if (m) found[k] = m[1];
+      }
+      if (Object.keys(found).length === Object.keys(patterns).length) {
+        clearTimeout(timer);
+        resolve({ child, ...found });
+      }
+    };
+    child.stdout.on('data', onData);
+    child.stderr.on('data', onData);
+    child.on('exit', (code) => reject(new Error(`${program} exited (${code}):\n${out}`)));
+  });
+}
+
+function run(program, argv) {
+  return new Promise((resolve, reject) => {
+    execFile(program, argv, { timeout: kDeadlineMs }, (err, stdout, stderr) => {
+      if (err) reject(new Error(`${program} ${argv.join(' ')}: ${err.message}\n${stderr}`));
+      else resolve(stdout);
+    });
+  });
+}
+
+async function waitFor(page, fn, arg) {
+  try {
+    await page.waitForFunction(fn, arg, { timeout: kDeadlineMs, polling: 50 });
+  } catch (e) {
+    const now = await page.evaluate(() => JSON.stringify({ steps: troupeViewer.steps, t: troupeViewer.simTime,
+                                                           paused: troupeViewer.paused, pending: troupeViewer.pendingRequests,
+                                                           status: document.getElementById('status').textContent }))
+                      .catch(() => '?');
+    await page.screenshot({ path: join(args.out, 'viewer-failed.png') }).catch(() => {});
+    throw new Error(`waiting for ${fn} (${JSON.stringify(arg)}; now ${now}): ${e.message}`);
+  }
+}
+
+async function simulatorPage(browser) {
+  const troupe = join(args.bin, 'troupe');
+  const sim = await start(join(args.bin, 'troupe-sim'),
+                          [join(args.source, 'examples/worlds/swarm100.world'), '--no-ctrl', '--port', '0',
+                           '--view', '0'],
+                          { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ });
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('pageerror', (e) => check(false, 'no error on the page', e.message));
+  page.on('console', (m) => console.log(`page console: ${m.text()}`));
+  await page.goto(sim.url);
+  await waitFor(page, () => window.troupeViewer?.ready);
+
+  const names = await page.evaluate(() => troupeViewer.robots());
+  check(names.length === 100, 'the page lists 100 robots', `${names.length}`);
+  check(names[0] === 'b0' && names[99] === 'b99', 'robots by their world-file names', `${names[0]}..${names[99]}`);
+  const items = await page.locator('#robots li[data-robot]').count();
+  check(items === 100, 'one list entry per robot', `${items}`);
+  const pose = await page.evaluate(() => troupeViewer.pose('b44'));
+  const truth = JSON.parse((await run(troupe, ['req', `127.0.0.1:${sim.port}`, 'simulation:0', 'getpose', 'b44']))
+                             .replace(/^[^{]*/, ''));
+  check(Math.hypot(pose.x - truth.pose.x, pose.y - truth.pose.y) < 1e-3, 'b44 is drawn at its ground truth',
+        `${JSON.stringify(pose)} vs ${JSON.stringify(truth.pose)}`);
+
+  // Running: simulated time advances; paused, it stops; resumed, it goes on.
+  const t0 = await page.evaluate(() => troupeViewer.simTime);
+  await waitFor(page, (t) => troupeViewer.simTime > t + 0.3, t0);
+  check(true, 'simulated time advances while running');
+  await page.click('#pause');
+  await waitFor(page, () => troupeViewer.paused === true);
+  const paused = await page.evaluate(() => ({ t: troupeViewer.simTime, steps: troupeViewer.steps }));
+  // The clock itself, asked over the wire (at speed 1 a step is due every 0.1 s).
+  const clock1 = await run(troupe, ['req', `127.0.0.1:${sim.port}`, 'simulation:0', 'clock']);
+  await page.waitForTimeout(1000);
+  const clock2 = await run(troupe, ['req', `127.0.0.1:${sim.port}`, 'simulation:0', 'clock']);
+  const steps = (s) => s.match(/steps=(\d+)/)?.[1];
+  check(steps(clock1) === steps(clock2) && steps(clock1) !== undefined, 'paused: the simulation takes no steps',
+        `${steps(clock1)} then ${steps(clock2)}`);
+  const later = await page.evaluate(() => ({ t: troupeViewer.simTime, steps: troupeViewer.steps }));
+  check(later.t === paused.t && later.steps === paused.steps, 'paused: the page\'s clock stands still',
+        `${paused.t} s then ${later.t} s`);
+  await page.click('#pause');
+  await waitFor(page, (t) => !troupeViewer.paused && troupeViewer.simTime > t, paused.t);
+  check(true, 'resumed: simulated time advances again');
+  await page.click('#pause');
+  await waitFor(page, () => troupeViewer.paused === true);
+  const stepsBefore = await page.evaluate(() => troupeViewer.steps);
+  await page.click('#step');
+  await waitFor(page, (s) => troupeViewer.steps === s + 1, stepsBefore);
+  check(true, 'Step runs one step');
+
+  // Selecting a robot opens its devices: sonar beams and live values.
+  const at = await page.evaluate(() => troupeViewer.screenOf('b44'));
+  await page.mouse.click(at.x, at.y);
+  await waitFor(page, () => troupeViewer.selected === 'b44');
+  await page.click('#step');  // while paused, one step brings the sensors' data
+  await waitFor(page, () => troupeViewer.beams() > 0 && troupeViewer.values()['b44/ranger:0']);
+  // The panel refreshes a few times a second.
+  await waitFor(page, () => document.querySelector('#devices li[data-device="b44/ranger:0"]')?.textContent
+                                .includes('ranges'));
+  const shown = await page.locator('#devices li[data-device]').allTextContents();
+  check(shown.some((t) => t.startsWith('b44/ranger:0') && t.includes('ranges')), 'the panel shows the sonar ring',
+        shown.join(' | '));
+  check(shown.some((t) => t.startsWith('b44/fiducial:0')), 'the panel shows the fiducial finder');
+
+  // Dragging b44 teleports it to where it was dropped.
+  const from = await page.evaluate(() => troupeViewer.screenOf('b44'));
+  const to = { x: from.x + 70, y: from.y - 45 };
+  const target = await page.evaluate(([x, y]) => troupeViewer.worldAt(x, y), [to.x, to.y]);
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  await page.mouse.move(to.x, to.y, { steps: 12 });
+  await page.mouse.up();
+  await waitFor(page, () => troupeViewer.teleports === 1);
+  const moved = JSON.parse((await run(troupe, ['req', `127.0.0.1:${sim.port}`, 'simulation:0', 'getpose', 'b44']))
+                             .replace(/^[^{]*/, '')).pose;
+  check(Math.hypot(moved.x - target.x, moved.y - target.y) < 0.01, 'the dragged robot is where it was dropped',
+        `dropped at ${target.x.toFixed(3)}, ${target.y.toFixed(3)}; ground truth ${moved.x}, ${moved.y}`);
+  check(Math.hypot(moved.x - truth.pose.x, moved.y - truth.pose.y) > 0.5, 'and it moved');
+  await page.click('#pause');  // running again for the picture's trails and beams
+  await waitFor(page, (s) => troupeViewer.steps > s + 5, await page.evaluate(() => troupeViewer.steps));
+  await page.screenshot({ path: join(args.out, 'viewer-sim.png') });
+  console.log(`screenshot: ${join(args.out, 'viewer-sim.png')}`);
+
+  // Garbage on another WebSocket: that one is closed with a reason, the page
+  // goes on.
+  const closed = await page.evaluate(() => new Promise((resolve) => {
+    const ws = new WebSocket(`ws://${location.host}/ws`);
+    ws.onopen = () => ws.send(new Uint8Array([0xde, 0xad, 0xbe, 0xef, 1, 2, 3]));
+    ws.onclose = (e) => resolve({ code: e.code, reason: e.reason });
+  }));
+  check(closed.code === 1007, 'a WebSocket sending garbage is closed (1007)', JSON.stringify(closed));
+  const before = await page.evaluate(() => troupeViewer.framesIn);
+  await waitFor(page, (n) => troupeViewer.framesIn > n + 10, before);
+  check(await page.evaluate(() => document.body.dataset.connected === 'true'), 'the page is still served');
+  await page.close();
+  sim.child.kill('SIGTERM');
+}
+
+async function nodePage(browser, config, name, drive) {
+  const node = await start(args.node, [config, '--port', '0'], { port: /serving \d+ devices on [^\n]*:(\d+)\n/ });
+  const view = await start(join(args.bin, 'troupe-view'), [`127.0.0.1:${node.port}`, '--http-port', '0'],
+                           { url: /viewer at (\S+)/ });
+  if (drive) await drive(node.port);
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('pageerror', (e) => check(false, 'no error on the page', e.message));
+  await page.goto(view.url);
+  await waitFor(page, () => window.troupeViewer?.ready);
+  check(await page.evaluate(() => troupeViewer.mode) === 'node', `${name}: the page knows it is a node`);
+  const devices = await page.evaluate(() => troupeViewer.devices());
+  check(devices.includes('position2d:0'), `${name}: its devices are listed`, devices.join(', '));
+  const robot = (await page.evaluate(() => troupeViewer.robots()))[0];
+  await waitFor(page, (r) => troupeViewer.trailLength(r) > 5, robot);
+  check(true, `${name}: the odometry trail grows`);
+  await waitFor(page, () => document.querySelector('#devices li[data-device="position2d:0"]')?.textContent
+                                .includes('odometry'));
+  const shown = await page.locator('#devices li[data-device="position2d:0"]').textContent();
+  check(shown.includes('odometry'), `${name}: position2d:0's live values are shown`, shown);
+  return { node, view, page };
+}
+
+const browser = await chromium.launch({
+  executablePath: kChromium,
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
+         '--disable-component-update', '--disable-sync', '--no-first-run'],
+});
+const scratch = mkdtempSync(join(tmpdir(), 'troupe-viewer-'));
+try {
+  await simulatorPage(browser);
+
+  // A kinematic base, driven in a circle over the wire.
+  const troupe = join(args.bin, 'troupe');
+  const kin = await nodePage(browser, join(args.source, 'examples/nodes/kinematic.json'), 'kinematic node',
+                             (port) => run(troupe, ['cmd', `127.0.0.1:${port}`, 'position2d:0', 'vel', '0.5', '0', '0.6']));
+  await kin.page.screenshot({ path: join(args.out, 'viewer-node.png') });
+  await kin.page.close();
+
+  // A recorded robot: a CARMEN log's odometry and laser.
+  const log = args.shared ? join(args.shared, 'carmen/aces-corrected.log.gz') : '';
+  if (log && existsSync(log)) {
+    const config = join(scratch, 'replay.json');
+    writeFileSync(config, JSON.stringify({
+      name: 'replay', listen: '127.0.0.1', port: 0,
+      drivers: [{ driver_type: 'logreplay', driver: { file: log, speed: 4.0, odometry: 'Corrected' },
+                  provides: ['position2d:0', 'ranger:0', 'position2d:1'] }],
+    }));
+    const replay = await nodePage(browser, config, 'log replay node');
+    await waitFor(replay.page, () => troupeViewer.beams() > 100);
+    await waitFor(replay.page, () => document.querySelector('#devices li[data-device="ranger:0"]')?.textContent
+                                       .includes('ranges'));
+    const laser = await replay.page.locator('#devices li[data-device="ranger:0"]').textContent();
+    check(/\d+ ranges/.test(laser), 'log replay node: the laser scan is shown', laser);
+    await replay.page.screenshot({ path: join(args.out, 'viewer-log.png') });
+  } else {
+    console.log(`note: ${log || 'the shared data'} is absent; the CARMEN log part is skipped`);
+  }
+} catch (e) {
+  check(false, 'the run', e.stack || e.message);
+} finally {
+  await browser.close();
+  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
+  rmSync(scratch, { recursive: true, force: true });
+}
+console.log(failures ? `${failures} check(s) failed` : 'all checks passed');
+process.exit(failures ? 1 : 0);
