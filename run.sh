@@ -11,10 +11,11 @@ cd "$(dirname "$0")"
 
 # What building needs, and what the tests need on top.
 BUILD_PACKAGES=(cmake ninja-build g++ libflatbuffers-dev flatbuffers-compiler
-  libeigen3-dev libpng-dev zlib1g-dev libserial-dev)
+  libeigen3-dev libpng-dev zlib1g-dev libserial-dev libboost-dev)
 TEST_PACKAGES=(libgtest-dev clang-14 libclang-rt-14-dev
   qemu-system-x86 busybox-static cpio iproute2
-  g++-arm-linux-gnueabihf g++-aarch64-linux-gnu g++-powerpc-linux-gnu qemu-user)
+  g++-arm-linux-gnueabihf g++-aarch64-linux-gnu g++-powerpc-linux-gnu qemu-user
+  python3 python3-flatbuffers chromium)
 
 say() { printf '\n== %s\n' "$*"; }
 
@@ -29,6 +30,14 @@ install_packages() {
   say "installing ${missing[*]}"
   $sudo apt-get update
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+# The viewer's page is built with npm (packages from the npm registry, into
+# the build tree). A Node.js that is already there (Debian's or another) is
+# kept: Debian's npm package would fight another vendor's nodejs.
+install_node() {
+  command -v npm >/dev/null 2>&1 && command -v node >/dev/null 2>&1 && return 0
+  install_packages nodejs npm
 }
 
 build() {
@@ -48,6 +57,7 @@ stop_sim() {
 # over the wire by separate client connections, then a picture of the end.
 demo() {
   install_packages "${BUILD_PACKAGES[@]}"
+  install_node
   build host-release
   local bin=build/host-release port=6665 out=build/demo
   local troupe="$bin/wire/cli/troupe" host="localhost:$port"
@@ -68,6 +78,7 @@ demo() {
   say "troupe ls $host (the first 8 of $(wc -l <<<"$devices") devices)"
   head -n 8 <<<"$devices"
   say "driving every robot over the wire: swarm-clients, one connection per robot, 30 s"
+  echo "(watch it in a browser meanwhile: the viewer URL troupe-sim printed above)"
   "$bin/examples/controllers/swarm-clients" "$host" --seconds 30
   say "robot b0's odometry, read over the wire"
   "$troupe" echo "$host" b0/position2d:0 --count 1
@@ -83,7 +94,8 @@ driven by its own client connection, exactly as real robots would be.
 
 To keep playing (the tools are in $bin/wire/cli):
 
-  troupe-sim $world &      # with the in-process controllers
+  troupe-sim $world &      # with the in-process controllers;
+                                                      # open the viewer URL it prints
   troupe ls localhost                                 # every robot's devices
   troupe echo localhost b7/ranger:0                   # a robot's sonar ring
   troupe teleop localhost b7/position2d:0             # drive one with the keyboard
@@ -94,6 +106,7 @@ EOT
 
 run_tests() {
   install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+  install_node
   build host-asan
   say "running every test under AddressSanitizer and UBSan"
   ctest --preset host-asan -j "$(nproc)"
