@@ -2,8 +2,6 @@
 //
 //   troupe-node CONFIG [--port N] [--listen ADDR] [--log-level LEVEL]
 #include <signal.h>
-#include <sys/signalfd.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +10,7 @@
 
 #include "runtime/log.h"
 #include "runtime/node_config.h"
+#include "runtime/stop_signals.h"
 
 namespace {
 
@@ -24,35 +23,6 @@ const char kUsage[] =
     "examples:\n"
     "  troupe-node examples/nodes/kinematic.json\n"
     "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0\n";
-
-// Stops the loop on SIGINT/SIGTERM, read through a signalfd so that the
-// handler runs in the loop like any other event.
-class SignalWatch final : public troupe::FdHandler {
- public:
-  explicit SignalWatch(troupe::Node& node) : node_(node) {
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);
-    sigprocmask(SIG_BLOCK, &set, nullptr);
-    fd_ = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
-    if (fd_ >= 0) node_.loop().watch(fd_, 1 /*EPOLLIN*/, this);
-  }
-  ~SignalWatch() {
-    if (fd_ >= 0) close(fd_);
-  }
-  void on_fd(int fd, uint32_t) override {
-    signalfd_siginfo info{};
-    if (read(fd, &info, sizeof info) == sizeof info) {
-      troupe::log_info("%s: stopping", strsignal(int(info.ssi_signo)));
-      node_.stop();
-    }
-  }
-
- private:
-  troupe::Node& node_;
-  int fd_ = -1;
-};
 
 }  // namespace
 
@@ -129,7 +99,7 @@ int main(int argc, char** argv) {
     troupe::log_error("%s", error.c_str());
     return 1;
   }
-  SignalWatch signals(node);
+  troupe::StopOnSignal stop_on_signal(node.loop(), [&node] { node.stop(); });
   troupe::log_info("%s (board %s) serving %zu devices on %s:%u", options.name.c_str(), troupe::kBoardName,
                    node.device_count(), options.listen.c_str(), unsigned(node.port()));
   node.run();

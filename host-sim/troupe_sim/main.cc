@@ -1,9 +1,5 @@
 // troupe-sim: simulates a Stage world and serves its robots over the wire.
 // See options.cc for the command line.
-#include <signal.h>
-#include <sys/signalfd.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -11,38 +7,7 @@
 #include "host-sim/troupe_sim/runner.h"
 #include "host-sim/viewer/view_server.h"
 #include "runtime/log.h"
-
-namespace {
-
-// Stops the run on SIGINT/SIGTERM, read through a signalfd in the loop.
-class SignalWatch final : public troupe::FdHandler {
- public:
-  SignalWatch(troupe::EventLoop& loop, troupe::sim::Runner& runner) : runner_(runner) {
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);
-    sigprocmask(SIG_BLOCK, &set, nullptr);
-    fd_ = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
-    if (fd_ >= 0) loop.watch(fd_, 1 /*EPOLLIN*/, this);
-  }
-  ~SignalWatch() {
-    if (fd_ >= 0) close(fd_);
-  }
-  void on_fd(int fd, uint32_t) override {
-    signalfd_siginfo info{};
-    if (read(fd, &info, sizeof info) == sizeof info) {
-      troupe::log_info("%s: stopping", strsignal(int(info.ssi_signo)));
-      runner_.request_stop();
-    }
-  }
-
- private:
-  troupe::sim::Runner& runner_;
-  int fd_ = -1;
-};
-
-}  // namespace
+#include "runtime/stop_signals.h"
 
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-sim");
@@ -73,7 +38,7 @@ int main(int argc, char** argv) {
     if (!error.empty()) std::fprintf(stderr, "troupe-sim: %s\n", error.c_str());
     return 1;
   }
-  SignalWatch signals(runner.node().loop(), runner);
+  troupe::StopOnSignal stop_on_signal(runner.node().loop(), [&runner] { runner.request_stop(); });
   const troupe::sim::World& w = runner.world();
   size_t controlled = 0;
   // --no-ctrl leaves every robot to the wire, whatever the world file names.

@@ -2,6 +2,8 @@
 // field's expectation table in the simulator; MCL with the Gaussian
 // landmark model then finds a robot driving on the field from its noisy
 // omni-vision detections and odometry, starting from no idea where it is.
+#include <unistd.h>
+
 #include <cmath>
 
 #include "drivers/common_desktop/landmark_model.h"
@@ -10,12 +12,16 @@
 namespace troupe::robocup::test {
 namespace {
 
-const std::string kTable = TROUPE_BINARY_DIR "/tests/robocup/field_test.landmarks";
+// ctest runs each test in a process of its own, several at once: each
+// learns into a file of its own.
+const std::string kTable =
+    TROUPE_BINARY_DIR "/tests/robocup/field_test." + std::to_string(getpid()) + ".landmarks";
 
 /// Learns the table once for every test of this file.
 class LandmarkMcl : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { learn_field_table(kTable); }
+  static void TearDownTestSuite() { std::filesystem::remove(kTable); }
 };
 
 TEST_F(LandmarkMcl, TheLearnedTableHoldsTheFieldsLandmarks) {

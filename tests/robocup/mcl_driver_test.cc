@@ -2,6 +2,8 @@
 // server: it uses the robot's odometry (position2d:0) and omni-vision
 // detections (fiducial:0) as served, no map, and finds the robot on the
 // field from global localization.
+#include <unistd.h>
+
 #include <cmath>
 #include <fstream>
 
@@ -12,8 +14,11 @@
 namespace troupe::robocup::test {
 namespace {
 
+// ctest runs each test in a process of its own, several at once: every
+// process writes and reads files of its own.
 const std::string kDir = TROUPE_BINARY_DIR "/tests/robocup";
-const std::string kTable = kDir + "/mcl_driver_test.landmarks";
+const std::string kTag = "/mcl_driver_test." + std::to_string(getpid());
+const std::string kTable = kDir + kTag + ".landmarks";
 
 // Keeps the newest pose a device publishes.
 class PoseProbe final : public Driver {
@@ -41,7 +46,7 @@ std::string mcl_config(const std::string& table, const std::string& uses) {
 }
 
 bool load(const std::string& json, LoadedConfig& cfg, std::string& error) {
-  const std::string path = kDir + "/mcl_driver_test.json";
+  const std::string path = kDir + kTag + ".json";
   std::ofstream(path) << json;
   return load_config(path, cfg, error);
 }
@@ -49,6 +54,9 @@ bool load(const std::string& json, LoadedConfig& cfg, std::string& error) {
 class MclDriver : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { learn_field_table(kTable); }
+  static void TearDownTestSuite() {
+    for (const char* end : {".landmarks", ".json", ".bad"}) std::filesystem::remove(kDir + kTag + end);
+  }
   void SetUp() override {
     std::string error;
     sim_ = make_sim(runner_world(), error);
@@ -95,14 +103,14 @@ TEST_F(MclDriver, RefusesLandmarksWithoutATableAndABadTable) {
   EXPECT_FALSE(build_node(*node_, cfg, error));
   EXPECT_NE(error.find("landmark_table names no table"), std::string::npos) << error;
 
-  std::ofstream(kDir + "/mcl_driver_test.bad") << "troupe-landmarks 1\ngrid 0 0 1 2 2 1\ncodes 1 100\n1 2\n";
-  ASSERT_TRUE(load(mcl_config(kDir + "/mcl_driver_test.bad", R"("position2d:0", "fiducial:0")"), cfg, error));
+  std::ofstream(kDir + kTag + ".bad") << "troupe-landmarks 1\ngrid 0 0 1 2 2 1\ncodes 1 100\n1 2\n";
+  ASSERT_TRUE(load(mcl_config(kDir + kTag + ".bad", R"("position2d:0", "fiducial:0")"), cfg, error));
   Node other{Node::Options{}};
   ServeControl control;
   ASSERT_TRUE(other.add_driver(std::make_unique<RobocupServer>(*sim_, control), DriverSetup{}, error))
       << error;
   EXPECT_FALSE(build_node(other, cfg, error));
-  EXPECT_NE(error.find("mcl_driver_test.bad:4: ends after 1 of 4 pose lines"), std::string::npos) << error;
+  EXPECT_NE(error.find(kTag + ".bad:4: ends after 1 of 4 pose lines"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -12,9 +12,9 @@
 #include "runtime/clock.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
+#include "runtime/stop_signals.h"
 #include "wire/address.h"
 #include "wire/record/replay_driver.h"
-#include "wire/record/stop_signals.h"
 
 namespace {
 
@@ -54,7 +54,7 @@ int usage_error(const std::string& message) {
 
 class StopWatch final : public troupe::FdHandler {
  public:
-  StopWatch(troupe::Node& node, troupe::record::StopSignals& signals) : node_(node), signals_(signals) {
+  StopWatch(troupe::Node& node, troupe::StopSignals& signals) : node_(node), signals_(signals) {
     if (signals_.fd() >= 0) node_.loop().watch(signals_.fd(), EPOLLIN, this);
   }
   void on_fd(int, uint32_t) override {
@@ -64,7 +64,7 @@ class StopWatch final : public troupe::FdHandler {
 
  private:
   troupe::Node& node_;
-  troupe::record::StopSignals& signals_;
+  troupe::StopSignals& signals_;
 };
 
 struct Recorded {
@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
     troupe::log_error("%s", error.c_str());
     return 1;
   }
-  troupe::record::StopSignals signals;
+  troupe::StopSignals signals;
   StopWatch stop(node, signals);
   troupe::log_info("playing %s (%llu frames of %zu devices, %.1f s) at speed %g on %s:%u",
                    replay.path.c_str(), static_cast<unsigned long long>(summary.data_records), devices.size(),

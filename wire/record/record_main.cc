@@ -9,9 +9,9 @@
 #include <string>
 
 #include "runtime/log.h"
+#include "runtime/stop_signals.h"
 #include "wire/address.h"
 #include "wire/record/recorder.h"
-#include "wire/record/stop_signals.h"
 
 namespace {
 
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
   options.host = hp.host;
   options.port = hp.port;
 
-  troupe::record::StopSignals stop;
+  troupe::StopSignals stop;
   troupe::record::Recorder recorder(options);
   if (!recorder.start(error)) {
     troupe::log_error("%s", error.c_str());

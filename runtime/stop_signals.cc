@@ -1,4 +1,4 @@
-#include "wire/record/stop_signals.h"
+#include "runtime/stop_signals.h"
 
 #include <signal.h>
 #include <sys/signalfd.h>
@@ -6,7 +6,7 @@
 
 #include <cstring>
 
-namespace troupe::record {
+namespace troupe {
 
 StopSignals::StopSignals() {
   sigset_t set;
@@ -27,4 +27,4 @@ const char* StopSignals::take() {
   return strsignal(int(info.ssi_signo));
 }
 
-}  // namespace troupe::record
+}  // namespace troupe
