@@ -235,39 +235,15 @@ void SimServer::ranger_request(const Device& d, const wire::Message& req, Reques
   Driver::on_request(d.id, req, token);
 }
 
-void SimServer::ack_clock(RequestToken token) {
-  auto& b = node_->begin();
-  auto body = wire::CreateSimClock(b, uint64_t(std::llround(world_.time() * 1e6)), world_.steps(),
-                                   control_.paused, float(control_.speed), float(control_.real_time_factor));
-  node_->ack(token, wire::Body::SimClock, body.Union());
-}
-
 void SimServer::simulation_request(const wire::Message& req, RequestToken token) {
   using Sub = wire::SimulationReqSub;
   switch (Sub(req.header()->subtype())) {
     case Sub::Pause:
-      control_.paused = true;
-      return ack_clock(token);
     case Sub::Resume:
-      control_.paused = false;
-      return ack_clock(token);
     case Sub::GetClock:
-      return ack_clock(token);
-    case Sub::Step: {
-      const wire::SimStep* s = req.body_as_SimStep();
-      const uint32_t n = s ? s->steps() : 1;
-      if (n > 1000000) return node_->nack(token, ErrorCode::BadArgument, "at most 1000000 steps at once");
-      if (control_.step) control_.step(n);
-      return ack_clock(token);
-    }
-    case Sub::SetSpeed: {
-      const wire::SimSpeed* s = req.body_as_SimSpeed();
-      if (s == nullptr || !(s->speed() >= 0) || !std::isfinite(s->speed())) {
-        return node_->nack(token, ErrorCode::BadArgument, "speed must be >= 0 (0: as fast as possible)");
-      }
-      control_.speed = s->speed();
-      return ack_clock(token);
-    }
+    case Sub::Step:
+    case Sub::SetSpeed:
+      return answer_clock_request(*node_, control_, req, token, [this] { return now(); });
     case Sub::GetPose:
     case Sub::SetPose: {
       const bool set = Sub(req.header()->subtype()) == Sub::SetPose;
@@ -304,7 +280,7 @@ void SimServer::simulation_request(const wire::Message& req, RequestToken token)
     }
     case Sub::Reset:
       if (control_.reset) control_.reset();
-      return ack_clock(token);
+      return ack_clock(*node_, control_, token, now());
     case Sub::StartPlayer:
     case Sub::StopPlayer:
     case Sub::GetGame:

@@ -13,25 +13,11 @@
 #include <vector>
 
 #include "host-sim/sim/world.h"
+#include "host-sim/sim_control/sim_control.h"
 #include "runtime/driver.h"
 #include "runtime/node.h"
 
 namespace troupe::sim {
-
-/// What the simulation device changes in the running loop (owned by the
-/// runner; the server only edits it).
-struct SimControl {
-  bool paused = false;
-  /// Multiple of real time; 0: as fast as possible.
-  double speed = 1;
-  /// Measured simulated seconds per wall second (for SimClock).
-  double real_time_factor = 0;
-  /// Runs n steps now (the runner's step: controllers, world, publishing,
-  /// logs), for the Step request.
-  std::function<void(uint32_t)> step;
-  /// Every model back to its start (the runner also resets controllers' view).
-  std::function<void()> reset;
-};
 
 class SimServer final : public Driver {
  public:
@@ -72,7 +58,7 @@ class SimServer final : public Driver {
   void publish_power(const Device& d);
   void publish_clock(const Device& d);
   void publish_poses(const Device& d);
-  void ack_clock(RequestToken token);
+  SimTime now() const { return {world_.time(), world_.steps()}; }
   void simulation_request(const wire::Message& request, RequestToken token);
   void position_request(Device& d, const wire::Message& request, RequestToken token);
   void ranger_request(const Device& d, const wire::Message& request, RequestToken token);

@@ -67,7 +67,7 @@ class MclDriver : public ::testing::Test {
     ASSERT_TRUE(node_->add_driver(std::move(server), DriverSetup{}, error)) << error;
   }
 
-  ServeControl control_;
+  sim::SimControl control_;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<Node> node_;
   RobocupServer* server_ = nullptr;
@@ -106,7 +106,7 @@ TEST_F(MclDriver, RefusesLandmarksWithoutATableAndABadTable) {
   std::ofstream(kDir + kTag + ".bad") << "troupe-landmarks 1\ngrid 0 0 1 2 2 1\ncodes 1 100\n1 2\n";
   ASSERT_TRUE(load(mcl_config(kDir + kTag + ".bad", R"("position2d:0", "fiducial:0")"), cfg, error));
   Node other{Node::Options{}};
-  ServeControl control;
+  sim::SimControl control;
   ASSERT_TRUE(other.add_driver(std::make_unique<RobocupServer>(*sim_, control), DriverSetup{}, error))
       << error;
   EXPECT_FALSE(build_node(other, cfg, error));

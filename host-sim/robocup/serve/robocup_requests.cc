@@ -86,40 +86,19 @@ void RobocupServer::sensor_request(Device& d, const wire::Message& req, RequestT
   Driver::on_request(d.id, req, token);
 }
 
-void RobocupServer::ack_clock(RequestToken token) {
-  auto& b = node_->begin();
-  auto body = wire::CreateSimClock(b, uint64_t(std::llround(sim_.time_s() * 1e6)),
-                                   uint64_t(std::llround(sim_.time_s() / sim_.cycle_s())), control_.paused,
-                                   float(control_.speed), float(control_.real_time_factor));
-  node_->ack(token, wire::Body::SimClock, body.Union());
+sim::SimTime RobocupServer::now() const {
+  return {sim_.time_s(), uint64_t(std::llround(sim_.time_s() / sim_.cycle_s()))};
 }
 
 void RobocupServer::simulation_request(const wire::Message& req, RequestToken token) {
   using Sub = wire::SimulationReqSub;
   switch (Sub(req.header()->subtype())) {
     case Sub::Pause:
-      control_.paused = true;
-      return ack_clock(token);
     case Sub::Resume:
-      control_.paused = false;
-      return ack_clock(token);
     case Sub::GetClock:
-      return ack_clock(token);
-    case Sub::Step: {
-      const wire::SimStep* s = req.body_as_SimStep();
-      const uint32_t n = s ? s->steps() : 1;
-      if (n > 1000000) return node_->nack(token, ErrorCode::BadArgument, "at most 1000000 steps at once");
-      if (control_.step) control_.step(n);
-      return ack_clock(token);
-    }
-    case Sub::SetSpeed: {
-      const wire::SimSpeed* s = req.body_as_SimSpeed();
-      if (s == nullptr || !(s->speed() >= 0) || !std::isfinite(s->speed())) {
-        return node_->nack(token, ErrorCode::BadArgument, "speed must be >= 0 (0: as fast as possible)");
-      }
-      control_.speed = s->speed();
-      return ack_clock(token);
-    }
+    case Sub::Step:
+    case Sub::SetSpeed:
+      return sim::answer_clock_request(*node_, control_, req, token, [this] { return now(); });
     case Sub::GetPose:
     case Sub::SetPose:
       return pose_request(req, Sub(req.header()->subtype()) == Sub::SetPose, token);
@@ -127,7 +106,7 @@ void RobocupServer::simulation_request(const wire::Message& req, RequestToken to
       // Robots and ball to their kick-off places; the score stays.
       sim_.reset();
       publish();
-      return ack_clock(token);
+      return sim::ack_clock(*node_, control_, token, now());
     case Sub::StartPlayer:
     case Sub::StopPlayer:
       return player_request(req, token);

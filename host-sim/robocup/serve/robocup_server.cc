@@ -13,7 +13,7 @@ ReadingKind served_kind(const PluginSpec& sensor) {
   return ReadingKind::Detections;
 }
 
-RobocupServer::RobocupServer(Simulation& sim, ServeControl& control) : sim_(sim), control_(control) {}
+RobocupServer::RobocupServer(Simulation& sim, sim::SimControl& control) : sim_(sim), control_(control) {}
 
 void RobocupServer::add(Node& node, Kind kind, int robot, int reading, wire::Interface iface, uint16_t index,
                         const std::string& model) {

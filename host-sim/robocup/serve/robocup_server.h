@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "host-sim/robocup/game/simulation.h"
+#include "host-sim/sim_control/sim_control.h"
 #include "runtime/driver.h"
 #include "runtime/node.h"
 
@@ -30,19 +31,9 @@ namespace troupe::robocup {
 
 /// What the simulation device changes in the running loop (owned by the
 /// runner; the server only edits it).
-struct ServeControl {
-  bool paused = false;
-  /// Multiple of real time; 0: as fast as possible.
-  double speed = 1;
-  /// Measured simulated seconds per wall second (0 before it is known).
-  double real_time_factor = 0;
-  /// Runs n cycles now (simulation, then publishing), for the Step request.
-  std::function<void(uint32_t)> step;
-};
-
 class RobocupServer final : public Driver {
  public:
-  RobocupServer(Simulation& sim, ServeControl& control);
+  RobocupServer(Simulation& sim, sim::SimControl& control);
 
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_command(DeviceId device, const wire::Message& command) override;
@@ -88,10 +79,10 @@ class RobocupServer final : public Driver {
   void simulation_request(const wire::Message& request, RequestToken token);
   void pose_request(const wire::Message& request, bool set, RequestToken token);
   void player_request(const wire::Message& request, RequestToken token);
-  void ack_clock(RequestToken token);
+  sim::SimTime now() const;
 
   Simulation& sim_;
-  ServeControl& control_;
+  sim::SimControl& control_;
   std::vector<Device> devices_;
   DeviceId first_ = kNoDevice;
   /// The game as last published: score, phase, event count.

@@ -41,7 +41,7 @@ class ServeLoop {
   /// The bound TCP port.
   uint16_t port() const;
   Node& node() { return *node_; }
-  const ServeControl& control() const { return control_; }
+  const sim::SimControl& control() const { return control_; }
 
  private:
   void step(uint32_t n);
@@ -49,7 +49,7 @@ class ServeLoop {
 
   Simulation& sim_;
   ServeOptions options_;
-  ServeControl control_;
+  sim::SimControl control_;
   std::unique_ptr<Node> node_;
   RobocupServer* server_ = nullptr;  // owned by node_
   std::atomic<bool> stop_{false};
