@@ -115,6 +115,10 @@ void RobocupServer::simulation_request(const wire::Message& req, RequestToken to
       auto body = build_game(b);
       return node_->ack(token, wire::Body::SimGame, body.Union());
     }
+    case Sub::Models:
+      // The browser viewer's model list (footprints for drawing): not served
+      // for RoboCup fields yet.
+      return node_->nack(token, ErrorCode::Unsupported, "troupe-robocup does not list its models yet");
   }
   node_->nack(token, ErrorCode::Unsupported, "unknown simulation request");
 }
