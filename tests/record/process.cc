@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <thread>
+#include <utility>
 
 namespace troupe::testing {
 
@@ -32,12 +33,8 @@ bool Process::wait_listening(uint16_t port) {
 }
 
 Outcome run_program(std::vector<std::string> argv, int timeout_ms) {
-  Process p(std::move(argv));
-  Outcome r;
-  r.rc = p.wait(timeout_ms);
-  r.out = p.out();
-  r.err = p.err();
-  return r;
+  ProgramResult r = run_to_end(argv, timeout_ms);
+  return {r.status, std::move(r.out), std::move(r.err)};
 }
 
 }  // namespace troupe::testing

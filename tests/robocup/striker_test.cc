@@ -3,14 +3,12 @@
 // ball, kicks it, and the ball goes towards the goal it attacks.
 #include "examples/robocup/striker/striker.h"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "tests/robocup/serve_fixture.h"
+#include "tests/support/child_process.h"
 
 namespace troupe::robocup::test {
 namespace {
@@ -86,26 +84,11 @@ class StrikerProgram : public ServedWorld {
 };
 
 TEST_F(StrikerProgram, PlaysTheExampleMatch) {
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
   const std::string target = "127.0.0.1:" + std::to_string(port());
-  pid_t pid = fork();
-  if (pid == 0) {
-    dup2(out[1], STDOUT_FILENO);
-    close(out[0]);
-    execl(STRIKER_PROGRAM, STRIKER_PROGRAM, target.c_str(), "--lockstep", "--seconds", "20",
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(out[1]);
-  std::string text;
-  char buf[256];
-  ssize_t n;
-  while ((n = read(out[0], buf, sizeof buf)) > 0) text.append(buf, size_t(n));
-  close(out[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  const auto run =
+      troupe::testing::run_to_end({STRIKER_PROGRAM, target, "--lockstep", "--seconds", "20"}, 120000);
+  const std::string& text = run.out;
+  ASSERT_EQ(run.status, 0) << text << run.err;
   const size_t at = text.find("done: ");
   ASSERT_NE(at, std::string::npos) << text;
   double seconds = 0, closest = 0;

@@ -2,8 +2,6 @@
 // with in-process controllers and (b) driven over the wire by the
 // swarm-clients example, one client connection per robot.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +10,7 @@
 #include <thread>
 
 #include "host-sim/troupe_sim/runner.h"
+#include "tests/support/child_process.h"
 
 namespace troupe::sim {
 namespace {
@@ -71,28 +70,13 @@ TEST(Swarm100, AggregatesDrivenByOneClientPerRobot) {
   std::thread sim([&] { runner.run(); });
 
   // The example program, as a user runs it.
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
   const std::string target = "127.0.0.1:" + std::to_string(runner.port());
-  pid_t pid = fork();
-  if (pid == 0) {
-    dup2(out[1], STDOUT_FILENO);
-    close(out[0]);
-    execl(SWARM_CLIENTS, SWARM_CLIENTS, target.c_str(), "--seconds", "8", static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(out[1]);
-  std::string text;
-  char buf[256];
-  ssize_t n;
-  while ((n = read(out[0], buf, sizeof buf)) > 0) text.append(buf, size_t(n));
-  close(out[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
+  const auto run = troupe::testing::run_to_end({SWARM_CLIENTS, target, "--seconds", "8"}, 120000);
   runner.request_stop();
   sim.join();
+  const std::string& text = run.out;
 
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  ASSERT_EQ(run.status, 0) << text << run.err;
   unsigned robots = 0, connections = 0;
   double before = 0, after = 0;
   ASSERT_EQ(std::sscanf(text.c_str(), "%u robots, %u connections; mean distance at the start %lf", &robots,

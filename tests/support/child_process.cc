@@ -151,6 +151,24 @@ void ChildProcess::kill_hard() {
   reap_now();
 }
 
+ProgramResult run_to_end(const std::vector<std::string>& argv, int timeout_ms) {
+  ProgramResult r;
+  const std::string dir = make_temp_dir("troupe-run-");
+  ChildProcess child;
+  std::string error;
+  if (dir.empty() || !child.start(argv, dir, "run", error)) {
+    r.err = dir.empty() ? "cannot make a scratch folder" : error;
+    remove_tree(dir);
+    return r;
+  }
+  r.status = child.wait_exit(timeout_ms);
+  child.kill_hard();
+  r.out = child.out();
+  r.err = child.err();
+  remove_tree(dir);
+  return r;
+}
+
 uint16_t free_port() {
   int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   sockaddr_in a = loopback(0);

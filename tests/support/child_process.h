@@ -56,6 +56,16 @@ class ChildProcess {
   std::string out_path_, err_path_;
 };
 
+/// What a program run to its end left.
+struct ProgramResult {
+  /// exit status; -1 when it was killed by a signal or ran past the timeout
+  int status = -1;
+  std::string out, err;
+};
+/// Runs `argv` to its end (killed after `timeout_ms`, a bound against hangs),
+/// as a user runs it, and returns its exit status and output.
+ProgramResult run_to_end(const std::vector<std::string>& argv, int timeout_ms);
+
 /// A TCP port on 127.0.0.1 nothing listens on right now.
 uint16_t free_port();
 /// True once something accepts connections on 127.0.0.1:`port`, within
