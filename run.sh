@@ -94,13 +94,13 @@ driven by its own client connection, exactly as real robots would be.
 
 To keep playing (the tools are in $bin/wire/cli):
 
-  troupe-sim $world &      # with the in-process controllers;
-                                                      # open the viewer URL it prints
-  troupe ls localhost                                 # every robot's devices
-  troupe echo localhost b7/ranger:0                   # a robot's sonar ring
-  troupe teleop localhost b7/position2d:0             # drive one with the keyboard
-  troupe req localhost simulation:0 getpose b7        # its ground truth
-  troupe help                                         # every command
+  troupe-sim $world &
+      the swarm with its in-process controllers; open the viewer URL it prints
+  troupe ls localhost                            every robot's devices
+  troupe echo localhost b7/ranger:0              a robot's sonar ring
+  troupe teleop localhost b7/position2d:0        drive one with the keyboard
+  troupe req localhost simulation:0 getpose b7   its ground truth
+  troupe help                                    every command
 EOT
 }
 
