@@ -15,17 +15,16 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "drivers/kinematic/kinematic.h"
 #include "runtime/node.h"
 #include "tests/bench/runtime/bench_util.h"
+#include "tests/bench/runtime/kinematic_node.h"
 #include "wire/client/client.h"
-#include "wire/writer.h"
 
 using namespace troupe;
 
 namespace {
 
-const wire::Address kBase(0, uint16_t(wire::Interface::Position2d), 0);
+const wire::Address& kBase = bench::kBenchBase;
 constexpr uint8_t kResetOdometry = uint8_t(wire::Position2dReqSub::ResetOdometry);
 
 void serve_echo(const std::function<void(uint16_t)>& report) {
@@ -49,46 +48,6 @@ void serve_echo(const std::function<void(uint16_t)>& report) {
   }
 }
 
-void serve_node(const std::function<void(uint16_t)>& report) {
-  Node::Options o;
-  o.port = 0;
-  Node node(o);
-  auto* driver = new drivers::kinematic::Kinematic;
-  DeviceId ids[1] = {node.add_device(kBase, driver, "kinematic")};
-  DriverSetup setup;
-  setup.provides = ids;
-  std::string error;
-  if (!node.add_driver(std::unique_ptr<Driver>(driver), setup, error) || !node.start(error)) {
-    fprintf(stderr, "bench_rtt: %s\n", error.c_str());
-    report(0);
-    return;
-  }
-  report(node.port());
-  node.run();
-}
-
-std::vector<uint8_t> request_frame(uint32_t seq) {
-  wire::MessageWriter w;
-  auto f = w.empty(wire::make_header(kBase, wire::Kind::Request, kResetOdometry, seq, 0));
-  return {f.begin(), f.end()};
-}
-
-// Round trips of one frame through a blocking socket, us each.
-std::vector<double> raw_round_trips(int fd, int count) {
-  std::vector<double> out;
-  std::vector<uint8_t> reply;
-  for (int i = 0; i < count; ++i) {
-    auto frame = request_frame(uint32_t(i + 1));
-    double t0 = bench::monotonic_seconds();
-    bench::write_all(fd, frame);
-    // Nothing is opened, so the node's reply is the first frame back, as
-    // the echo's is.
-    bench::read_frame(fd, reply);
-    out.push_back((bench::monotonic_seconds() - t0) * 1e6);
-  }
-  return out;
-}
-
 std::vector<double> client_round_trips(client::Client& c, int count) {
   std::vector<double> out;
   for (int i = 0; i < count; ++i) {
@@ -105,8 +64,8 @@ std::vector<double> client_round_trips(client::Client& c, int count) {
 
 struct Path {
   const char* name;
-  std::vector<double> all;       // every sample, us
-  std::vector<double> medians;   // one per repeat, us
+  std::vector<double> all;      // every sample, us
+  std::vector<double> medians;  // one per repeat, us
 };
 
 }  // namespace
@@ -116,7 +75,7 @@ int main(int argc, char** argv) {
   int repeats = argc > 2 ? atoi(argv[2]) : 5;
   uint16_t echo_port = 0, node_port = 0;
   pid_t echo = bench::spawn_server(serve_echo, echo_port);
-  pid_t node = bench::spawn_server(serve_node, node_port);
+  pid_t node = bench::spawn_server(bench::serve_kinematic_node, node_port);
   if (echo_port == 0 || node_port == 0) return 1;
   int echo_fd = bench::connect_loopback(echo_port);
   int node_fd = bench::connect_loopback(node_port);
@@ -125,14 +84,16 @@ int main(int argc, char** argv) {
   client::Client c("127.0.0.1", node_port);
   if (echo_fd < 0 || node_fd < 0 || !c.connect()) return 1;
 
-  Path paths[3] = {{"raw TCP echo (baseline)", {}, {}}, {"troupe-node", {}, {}}, {"troupe-node, C++ client", {}, {}}};
+  Path paths[3] = {
+      {"raw TCP echo (baseline)", {}, {}}, {"troupe-node", {}, {}}, {"troupe-node, C++ client", {}, {}}};
   // Warm up every path, then interleave the repeats so that machine noise
   // falls on all of them alike.
-  raw_round_trips(echo_fd, 500);
-  raw_round_trips(node_fd, 500);
+  bench::blocking_round_trips(echo_fd, 500);
+  bench::blocking_round_trips(node_fd, 500);
   client_round_trips(c, 500);
   for (int r = 0; r < repeats; ++r) {
-    std::vector<double> samples[3] = {raw_round_trips(echo_fd, count), raw_round_trips(node_fd, count),
+    std::vector<double> samples[3] = {bench::blocking_round_trips(echo_fd, count),
+                                      bench::blocking_round_trips(node_fd, count),
                                       client_round_trips(c, count)};
     for (int p = 0; p < 3; ++p) {
       paths[p].all.insert(paths[p].all.end(), samples[p].begin(), samples[p].end());
@@ -140,8 +101,9 @@ int main(int argc, char** argv) {
     }
   }
   double base = bench::percentile(paths[0].medians, 50);
-  printf("Request/reply round trip on loopback, %d round trips x %d repeats (frame of %zu bytes each way)\n\n", count,
-         repeats, request_frame(1).size());
+  printf(
+      "Request/reply round trip on loopback, %d round trips x %d repeats (frame of %zu bytes each way)\n\n",
+      count, repeats, bench::request_frame(1).size());
   printf("| path | median (us) | p99 (us) | median / echo |\n|---|---:|---:|---:|\n");
   for (Path& p : paths) {
     double med = bench::percentile(p.medians, 50);

@@ -12,10 +12,9 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "drivers/kinematic/kinematic.h"
 #include "host-sim/viewer/view_server.h"
-#include "runtime/node.h"
 #include "tests/bench/runtime/bench_util.h"
+#include "tests/bench/runtime/kinematic_node.h"
 #include "wire/writer.h"
 
 using namespace troupe;
@@ -24,51 +23,11 @@ namespace websocket = boost::beast::websocket;
 
 namespace {
 
-const wire::Address kBase(0, uint16_t(wire::Interface::Position2d), 0);
-constexpr uint8_t kResetOdometry = uint8_t(wire::Position2dReqSub::ResetOdometry);
-
-void serve_node(const std::function<void(uint16_t)>& report) {
-  Node::Options o;
-  o.port = 0;
-  Node node(o);
-  auto* driver = new drivers::kinematic::Kinematic;
-  DeviceId ids[1] = {node.add_device(kBase, driver, "kinematic")};
-  DriverSetup setup;
-  setup.provides = ids;
-  std::string error;
-  if (!node.add_driver(std::unique_ptr<Driver>(driver), setup, error) || !node.start(error)) {
-    std::fprintf(stderr, "bench_view_bridge: %s\n", error.c_str());
-    report(0);
-    return;
-  }
-  report(node.port());
-  node.run();
-}
-
-std::vector<uint8_t> request_frame(uint32_t seq) {
-  wire::MessageWriter w;
-  auto f = w.empty(wire::make_header(kBase, wire::Kind::Request, kResetOdometry, seq, 0));
-  return {f.begin(), f.end()};
-}
-
-std::vector<double> tcp_round_trips(int fd, int count) {
-  std::vector<double> out;
-  std::vector<uint8_t> reply;
-  for (int i = 0; i < count; ++i) {
-    auto frame = request_frame(uint32_t(i + 1));
-    const double t0 = bench::monotonic_seconds();
-    bench::write_all(fd, frame);
-    bench::read_frame(fd, reply);
-    out.push_back((bench::monotonic_seconds() - t0) * 1e6);
-  }
-  return out;
-}
-
 std::vector<double> ws_round_trips(websocket::stream<net::ip::tcp::socket>& ws, int count) {
   std::vector<double> out;
   boost::beast::flat_buffer reply;
   for (int i = 0; i < count; ++i) {
-    auto frame = request_frame(uint32_t(i + 1));
+    auto frame = bench::request_frame(uint32_t(i + 1));
     const double t0 = bench::monotonic_seconds();
     ws.write(net::buffer(frame));
     reply.clear();
@@ -96,7 +55,7 @@ int main(int argc, char** argv) {
   const int count = argc > 1 ? std::atoi(argv[1]) : 3000;
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 5;
   uint16_t node_port = 0, view_port = 0;
-  const pid_t node = bench::spawn_server(serve_node, node_port);
+  const pid_t node = bench::spawn_server(bench::serve_kinematic_node, node_port);
   if (node_port == 0) return 1;
   const pid_t view = bench::spawn_server(
       [node_port](const std::function<void(uint16_t)>& report) {
@@ -129,11 +88,11 @@ int main(int argc, char** argv) {
   boost::beast::flat_buffer first;
   ws.read(first);  // the node's Hello, through the bridge
 
-  tcp_round_trips(fd, 300);
+  bench::blocking_round_trips(fd, 300);
   ws_round_trips(ws, 300);
   std::vector<double> tcp_medians, ws_medians, tcp_all, ws_all;
   for (int r = 0; r < repeats; ++r) {
-    auto t = tcp_round_trips(fd, count);
+    auto t = bench::blocking_round_trips(fd, count);
     auto w = ws_round_trips(ws, count);
     tcp_all.insert(tcp_all.end(), t.begin(), t.end());
     ws_all.insert(ws_all.end(), w.begin(), w.end());
