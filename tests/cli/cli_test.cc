@@ -1,22 +1,15 @@
 // The quick start, as a user runs it: troupe-node serving the kinematic
 // example, driven and watched with the troupe CLI, as separate processes.
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <string>
-#include <thread>
 
-extern char** environ;
+#include "tests/support/child_process.h"
+
+using troupe::testing::ChildProcess;
+using troupe::testing::free_port;
 
 namespace {
 
@@ -30,46 +23,14 @@ struct Result {
   std::string out, err;
 };
 
+// Runs a shell command line to its end (bounded: a hang fails the test).
 Result run(const std::string& command) {
-  char err_path[] = "/tmp/troupe-cli-err-XXXXXX";
-  int fd = mkstemp(err_path);
-  close(fd);
-  Result r;
-  FILE* p = popen((command + " 2>" + err_path).c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  int status = pclose(p);
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_path);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  unlink(err_path);
-  return r;
-}
-
-uint16_t free_port() {
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  close(s);
-  return ntohs(a.sin_port);
+  troupe::testing::ProgramResult r = troupe::testing::run_to_end({"/bin/sh", "-c", command}, 60000);
+  return {r.status, r.out, r.err};
 }
 
 bool listening(uint16_t port) {
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bool ok = connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-  close(s);
-  return ok;
+  return troupe::testing::wait_for_listener(port, 0);
 }
 
 // The first pose x in an echo line "... pose=X,Y,A ...".
@@ -83,23 +44,20 @@ class Cli : public ::testing::Test {
   void SetUp() override {
     port_ = free_port();
     host_ = "127.0.0.1:" + std::to_string(port_);
-    std::string port = std::to_string(port_);
-    const char* argv[] = {kNode.c_str(), kExample.c_str(), "--port", port.c_str(), nullptr};
-    ASSERT_EQ(posix_spawn(&pid_, kNode.c_str(), nullptr, nullptr, const_cast<char**>(argv), environ), 0);
-    for (int i = 0; i < 500 && !listening(port_); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    ASSERT_TRUE(listening(port_)) << "troupe-node did not start";
+    dir_ = troupe::testing::make_temp_dir("troupe-cli-");
+    std::string error;
+    ASSERT_TRUE(node_.start({kNode, kExample, "--port", std::to_string(port_)}, dir_, "troupe-node", error))
+        << error;
+    ASSERT_TRUE(troupe::testing::wait_for_listener(port_, 5)) << "troupe-node did not start: " << node_.err();
   }
   void TearDown() override {
-    if (pid_ > 0) {
-      kill(pid_, SIGTERM);
-      int status = 0;
-      waitpid(pid_, &status, 0);
-      EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "troupe-node did not stop cleanly";
-    }
+    EXPECT_EQ(node_.stop(), 0) << "troupe-node did not stop cleanly: " << node_.err();
+    troupe::testing::remove_tree(dir_);
   }
   Result troupe(const std::string& args) { return run(kTroupe + " " + args); }
 
-  pid_t pid_ = -1;
+  ChildProcess node_;
+  std::string dir_;
   uint16_t port_ = 0;
   std::string host_;
 };
@@ -172,20 +130,20 @@ TEST_F(Cli, ErrorsAreOneLineAndNonZero) {
 }
 
 TEST(CliNode, BadConfigNamesTheKeyAndNothingStarts) {
-  char dir[] = "/tmp/troupe-cli-XXXXXX";
-  ASSERT_NE(mkdtemp(dir), nullptr);
-  std::string path = std::string(dir) + "/bad.json";
+  const std::string dir = troupe::testing::make_temp_dir("troupe-cli-");
+  ASSERT_FALSE(dir.empty());
+  std::string path = dir + "/bad.json";
   uint16_t port = free_port();
-  std::ofstream(path) << "{ \"port\": " << port
-                      << ", \"drivers\": [ { \"driver_type\": \"kinematic\", \"driver\": { \"max_speeed\": 1 },"
-                         " \"provides\": [\"position2d:0\"] } ] }";
+  std::ofstream(path)
+      << "{ \"port\": " << port
+      << ", \"drivers\": [ { \"driver_type\": \"kinematic\", \"driver\": { \"max_speeed\": 1 },"
+         " \"provides\": [\"position2d:0\"] } ] }";
   Result r = run(kNode + " " + path);
   EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find("bad.json:1:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("unknown field: max_speeed"), std::string::npos) << r.err;
   EXPECT_FALSE(listening(port));
-  unlink(path.c_str());
-  rmdir(dir);
+  troupe::testing::remove_tree(dir);
 }
 
 }  // namespace

@@ -2,16 +2,14 @@
 // with exit status 0, its usage and an examples section, run through the
 // troupe CLI as a user runs it (each program's folder on the PATH).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_tools.h"
+#include "tests/support/child_process.h"
 
 namespace {
 
@@ -29,23 +27,9 @@ struct Result {
 Result troupe(const std::string& args) {
   std::string path;
   for (const CliTool& t : kCliTools) path += std::string(t.dir) + ":";
-  std::string err_path = std::string(P_tmpdir) + "/troupe-help-err-XXXXXX";
-  close(mkstemp(err_path.data()));
-  std::string command =
-      "PATH='" + path + "'\"$PATH\" " + kTroupe + " " + args + " 2>" + err_path + " </dev/null";
-  Result r;
-  FILE* p = popen(command.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  int status = pclose(p);
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_path);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  unlink(err_path.c_str());
-  return r;
+  const std::string command = "PATH='" + path + "'\"$PATH\" " + kTroupe + " " + args + " </dev/null";
+  troupe::testing::ProgramResult r = troupe::testing::run_to_end({"/bin/sh", "-c", command}, 60000);
+  return {r.status, r.out, r.err};
 }
 
 /// The lines after "examples:" up to the next blank line or the end.
