@@ -60,11 +60,11 @@ demo() {
   install_node
   build host-release
   local bin=build/host-release port=6665 out=build/demo
-  local troupe="$bin/wire/cli/troupe" host="localhost:$port"
+  local troupe="$bin/bin/troupe" host="localhost:$port"
   local world=examples/worlds/swarm100.world
   mkdir -p "$out"
   say "starting troupe-sim on $world (100 robots, 4x real time, no in-process controllers)"
-  "$bin/wire/cli/troupe-sim" "$world" --no-ctrl --speed 4 --port "$port" \
+  "$bin/bin/troupe-sim" "$world" --no-ctrl --speed 4 --port "$port" \
     --snapshot "$out/swarm100.png" --log "$out/swarm100.csv" &
   SIM_PID=$!
   trap stop_sim EXIT
@@ -79,7 +79,7 @@ demo() {
   head -n 8 <<<"$devices"
   say "driving every robot over the wire: swarm-clients, one connection per robot, 30 s"
   echo "(watch it in a browser meanwhile: the viewer URL troupe-sim printed above)"
-  "$bin/examples/controllers/swarm-clients" "$host" --seconds 30
+  "$bin/bin/swarm-clients" "$host" --seconds 30
   say "robot b0's odometry, read over the wire"
   "$troupe" echo "$host" b0/position2d:0 --count 1
   say "stopping troupe-sim"
@@ -92,7 +92,7 @@ driven by its own client connection, exactly as real robots would be.
   $out/swarm100.png    the arena, robots and sonar beams at the end
   $out/swarm100.csv    every robot's pose at every step (time,robot,x,y,a)
 
-To keep playing (the tools are in $bin/wire/cli):
+To keep playing (the tools are in $bin/bin):
 
   troupe-sim $world &
       the swarm with its in-process controllers; open the viewer URL it prints

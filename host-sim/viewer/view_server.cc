@@ -124,7 +124,7 @@ std::string default_web_root() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec) return "viewer";
-  return (exe.parent_path() / "viewer").string();
+  return (exe.parent_path().parent_path() / "share" / "troupe" / "viewer").string();
 }
 
 ViewServer::ViewServer(ViewOptions options) : impl_(std::make_unique<Impl>()) {

@@ -36,8 +36,9 @@ struct ViewOptions {
   uint32_t max_sessions = 32;
 };
 
-/// The folder beside this executable holding the page's files
-/// (`<dir of /proc/self/exe>/viewer`).
+/// The folder holding the page's files, found from this executable's place
+/// (`<dir of /proc/self/exe>/../share/troupe/viewer`), the same in a build
+/// tree (build/<preset>/bin) and an installed one (<prefix>/bin).
 std::string default_web_root();
 
 class ViewServer {

@@ -14,8 +14,8 @@ using troupe::testing::free_port;
 namespace {
 
 const std::string kBin = TROUPE_BINARY_DIR;
-const std::string kNode = kBin + "/runtime/troupe-node";
-const std::string kTroupe = kBin + "/wire/cli/troupe";
+const std::string kNode = kBin + "/bin/troupe-node";
+const std::string kTroupe = kBin + "/bin/troupe";
 const std::string kExample = std::string(TROUPE_SOURCE_DIR) + "/examples/nodes/kinematic.json";
 
 struct Result {

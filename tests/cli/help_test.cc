@@ -13,7 +13,7 @@
 
 namespace {
 
-const std::string kTroupe = std::string(TROUPE_BINARY_DIR) + "/wire/cli/troupe";
+const std::string kTroupe = std::string(TROUPE_BINARY_DIR) + "/bin/troupe";
 
 // The commands troupe runs itself, not through a troupe-NAME program.
 const std::vector<std::string> kBuiltIn = {"ls", "echo", "cmd", "req", "teleop"};

@@ -105,7 +105,7 @@ class Offload : public ::testing::Test {
   }
 
   void start_sim(const std::string& truth_log, bool paused) {
-    std::vector<std::string> argv = {kBin + "/wire/cli/troupe-sim",
+    std::vector<std::string> argv = {kBin + "/bin/troupe-sim",
                                      kSource + "/examples/worlds/office.world",
                                      "--port",
                                      std::to_string(sim_port_),
@@ -132,7 +132,7 @@ class Offload : public ::testing::Test {
     std::ofstream(path) << json;
     std::string error;
     ASSERT_TRUE(
-        desktop_.start_logged({kBin + "/runtime/troupe-node", path, "--port", std::to_string(desktop_port_)},
+        desktop_.start_logged({kBin + "/bin/troupe-node", path, "--port", std::to_string(desktop_port_)},
                               dir_ + "/desktop.log", error))
         << error;
     ASSERT_TRUE(wait_for_listener(desktop_port_, 60)) << read_text(dir_ + "/desktop.log");

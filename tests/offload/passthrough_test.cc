@@ -23,7 +23,7 @@ using client::Client;
 using client::Position2dProxy;
 using client::Reply;
 
-const std::string kNode = std::string(TROUPE_BINARY_DIR) + "/runtime/troupe-node";
+const std::string kNode = std::string(TROUPE_BINARY_DIR) + "/bin/troupe-node";
 constexpr double kDeadlineS = 30;  // bounds a failing test only
 
 // Spins the client until `done` or the deadline.

@@ -13,11 +13,11 @@ import time
 
 BINARY_DIR = os.environ.get("TROUPE_BINARY_DIR", "")
 SOURCE_DIR = os.environ.get("TROUPE_SOURCE_DIR", "")
-TROUPE_NODE = os.path.join(BINARY_DIR, "runtime", "troupe-node")
+TROUPE_NODE = os.path.join(BINARY_DIR, "bin", "troupe-node")
 ROOM_NODE = os.path.join(BINARY_DIR, "tests", "python", "room_node")
 KINEMATIC_CONFIG = os.path.join(SOURCE_DIR, "examples", "nodes", "kinematic.json")
 WANDER = os.path.join(SOURCE_DIR, "examples", "python", "wander.py")
-TROUPE_SIM = os.path.join(BINARY_DIR, "wire", "cli", "troupe-sim")
+TROUPE_SIM = os.path.join(BINARY_DIR, "bin", "troupe-sim")
 ROOM_WORLD = os.path.join(SOURCE_DIR, "examples", "worlds", "room.world")
 
 

@@ -19,7 +19,7 @@ from troupe.wire.Kind import Kind
 from troupe.wire.Position2dState import Position2dState
 from troupe.wire.RangerScan import RangerScan
 
-TROUPE = os.path.join(helpers.BINARY_DIR, "wire", "cli", "troupe")
+TROUPE = os.path.join(helpers.BINARY_DIR, "bin", "troupe")
 MAGIC = b"\x89TROUPE\n"
 
 

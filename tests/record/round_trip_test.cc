@@ -121,7 +121,7 @@ class RecordReplay : public ::testing::Test {
     return files_.back();
   }
   static Outcome troupe(std::vector<std::string> args) {
-    args.insert(args.begin(), bin("wire/cli/troupe"));
+    args.insert(args.begin(), bin("bin/troupe"));
     return run_program(std::move(args));
   }
   static std::string host(uint16_t port) { return "127.0.0.1:" + std::to_string(port); }
@@ -131,7 +131,7 @@ class RecordReplay : public ::testing::Test {
   std::vector<Sample> play(const std::string& log, const std::vector<std::string>& devices,
                            std::vector<std::string> extra = {}, std::string* player_err = nullptr) {
     uint16_t port = free_port();
-    std::vector<std::string> args = {bin("wire/cli/troupe"), "play",  log, "--port",
+    std::vector<std::string> args = {bin("bin/troupe"), "play",  log, "--port",
                                      std::to_string(port),   "--wait"};
     args.insert(args.end(), extra.begin(), extra.end());
     Process player(args);
@@ -159,7 +159,7 @@ class RecordReplay : public ::testing::Test {
 
 TEST_F(RecordReplay, AClientSeesTheRecordedDataWithItsTimestamps) {
   uint16_t port = free_port();
-  Process node({bin("runtime/troupe-node"), kExample, "--port", std::to_string(port)});
+  Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
   ASSERT_TRUE(node.wait_listening(port)) << node.err();
   ASSERT_EQ(troupe({"cmd", host(port), "position2d:0", "vel", "0.4", "0", "0.3"}).rc, 0);
   std::string log = file("base.trl");
@@ -207,7 +207,7 @@ TEST_F(RecordReplay, TwoDevicesOfRoomNodeIncludingLaserScans) {
 
 TEST_F(RecordReplay, ARobotOfTroupeSimPlaysBackUnderItsRobotName) {
   uint16_t port = free_port();
-  Process sim({bin("wire/cli/troupe-sim"), kRoomWorld, "--port", std::to_string(port), "--seed", "3"});
+  Process sim({bin("bin/troupe-sim"), kRoomWorld, "--port", std::to_string(port), "--seed", "3"});
   ASSERT_TRUE(sim.wait_listening(port)) << sim.err();
   ASSERT_EQ(troupe({"cmd", host(port), "r0/position2d:0", "vel", "0.3", "0", "0.4"}).rc, 0);
   std::string log = file("sim.trl");
@@ -232,7 +232,7 @@ TEST_F(RecordReplay, ARobotOfTroupeSimPlaysBackUnderItsRobotName) {
 
 TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
   uint16_t port = free_port();
-  Process node({bin("runtime/troupe-node"), kExample, "--port", std::to_string(port)});
+  Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
   ASSERT_TRUE(node.wait_listening(port)) << node.err();
   std::string log = file("whole.trl");
   ASSERT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", "12"}).rc, 0);
@@ -275,10 +275,10 @@ TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
 TEST_F(RecordReplay, RecordingGoesOnAcrossANodeRestart) {
   uint16_t port = free_port();
   auto node = std::make_unique<Process>(
-      std::vector<std::string>{bin("runtime/troupe-node"), kExample, "--port", std::to_string(port)});
+      std::vector<std::string>{bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
   ASSERT_TRUE(node->wait_listening(port)) << node->err();
   std::string log = file("restart.trl");
-  Process rec({bin("wire/cli/troupe-record"), host(port), "position2d:0", "-o", log, "--count", "25"});
+  Process rec({bin("bin/troupe-record"), host(port), "position2d:0", "-o", log, "--count", "25"});
   // Once some frames are in the file, restart the node (its sample counter
   // starts again at 1).
   for (int i = 0; i < 1000 && rec.running() && data_count(log) < 5; ++i) {
@@ -287,7 +287,7 @@ TEST_F(RecordReplay, RecordingGoesOnAcrossANodeRestart) {
   ASSERT_GE(data_count(log), 5u) << rec.err();
   EXPECT_EQ(node->stop(), 0);
   node = std::make_unique<Process>(
-      std::vector<std::string>{bin("runtime/troupe-node"), kExample, "--port", std::to_string(port)});
+      std::vector<std::string>{bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
   ASSERT_TRUE(node->wait_listening(port)) << node->err();
   ASSERT_EQ(rec.wait(), 0) << rec.err();
   EXPECT_NE(rec.err().find("reconnected"), std::string::npos) << rec.err();
@@ -308,7 +308,7 @@ TEST_F(RecordReplay, RecordingGoesOnAcrossANodeRestart) {
 
 TEST_F(RecordReplay, RecordErrorsAreOneLineAndCreateNoFile) {
   uint16_t port = free_port();
-  Process node({bin("runtime/troupe-node"), kExample, "--port", std::to_string(port)});
+  Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
   ASSERT_TRUE(node.wait_listening(port)) << node.err();
   std::string log = file("never.trl");
   Outcome missing = troupe({"record", host(port), "ranger:0", "-o", log});
@@ -335,7 +335,7 @@ TEST_F(RecordReplay, RecordErrorsAreOneLineAndCreateNoFile) {
 TEST(RecordReplayHelp, EverySubcommandHasHelpWithExamples) {
   for (const char* sub : {"record", "play"}) {
     for (std::vector<std::string> args : {std::vector<std::string>{sub, "--help"}, {"help", sub}}) {
-      args.insert(args.begin(), bin("wire/cli/troupe"));
+      args.insert(args.begin(), bin("bin/troupe"));
       Outcome r = run_program(args);
       EXPECT_EQ(r.rc, 0) << sub;
       EXPECT_EQ(r.out.rfind(std::string("usage: troupe ") + sub, 0), 0u) << r.out;

@@ -20,7 +20,7 @@ using namespace troupe;
 
 namespace {
 
-const std::string kNode = std::string(TROUPE_BINARY_DIR) + "/runtime/troupe-node";
+const std::string kNode = std::string(TROUPE_BINARY_DIR) + "/bin/troupe-node";
 
 bool start(testing::ChildProcess& p, const std::string& dir, const std::string& name, const std::string& json,
            uint16_t port) {
