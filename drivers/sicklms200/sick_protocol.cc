@@ -60,6 +60,9 @@ bool mode_for_baud(uint32_t baud, Mode& out) {
     case 9600:
       out = Mode::Baud9600;
       return true;
+    case 19200:
+      out = Mode::Baud19200;
+      return true;
     case 38400:
       out = Mode::Baud38400;
       return true;
