@@ -44,16 +44,18 @@ class SickLms200 final : public Driver, private serial::SerialSession::Listener 
   void shutdown() override;
 
  private:
+  // The configuration steps, each one request and its reply.
+  void probe(size_t index);
+  void ask(State state, const Telegram& request, uint8_t reply);
+  void handle(std::span<const uint8_t> body);
+  void on_reply(const Reply& reply);
+  void on_timeout();
+  void publish(const Scan& scan);
+  // What the serial session reports.
   void on_session_open() override;
   void on_session_bytes(std::span<const uint8_t> bytes) override;
   void on_session_tick(uint64_t now_us) override;
   void on_session_down() override;
-  void handle(std::span<const uint8_t> body);
-  void probe(size_t index);
-  void ask(State state, const Telegram& request, uint8_t reply);
-  void on_reply(const Reply& reply);
-  void on_timeout();
-  void publish(const Scan& scan);
 
   serial::SerialSession session_;
   TelegramScanner scanner_{kReplyAddress};

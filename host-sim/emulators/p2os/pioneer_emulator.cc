@@ -232,7 +232,7 @@ void PioneerEmulator::obey(std::span<const uint8_t> p) {
       if (!accepted()) return;
       // The argument's two bytes are signed wheel speeds: right low, left high.
       const double div = robot_->vel2_divisor / 1000.0;
-      return motion_.set_wheels(int8_t(arg.lo) * div, int8_t(arg.hi) * div);
+      return motion_.set_wheels(int8_t(arg.hi) * div, int8_t(arg.lo) * div);
     }
     case Command::Stop:
       return motion_.stop();

@@ -36,17 +36,33 @@ std::string list(const std::vector<uint32_t>& bauds) {
 
 }  // namespace
 
+std::string emulator_usage(const EmulatorProgram& p) {
+  return std::string("usage: ") + p.name + " [--link PATH] [--baud N] " + p.synopsis +
+         "\n       [--flip P] [--drop P] [--tear P] [--seed N] [--no-baud-check]\n\n" + p.about +
+         "\n\n  --link PATH      also make PATH a symbolic link to the port\n"
+         "  --baud N         the device's line speed at power-up, bit/s: " +
+         list(p.bauds) + " (default " + std::to_string(p.bauds.front()) + ")\n" + p.flags_help +
+         "  --flip P         per byte sent: probability a bit flips\n"
+         "  --drop P         per byte sent: probability it is lost\n"
+         "  --tear P         per packet sent: probability it is cut short\n"
+         "  --seed N         seed of the fault generator (default 1)\n"
+         "  --no-baud-check  talk whatever speed the driver's end is set to\n"
+         "\nexamples:\n" +
+         p.examples;
+}
+
 int emulator_main(int argc, char** argv, const EmulatorProgram& program) {
   EmulatorOptions options;
-  if (!program.bauds.empty()) options.baud = program.bauds.front();
+  options.baud = program.bauds.front();
+  const std::string usage = emulator_usage(program);
   auto fail = [&](const std::string& why) {
-    fprintf(stderr, "%s: %s\n%s", program.name, why.c_str(), program.usage);
+    fprintf(stderr, "%s: %s\n%s", program.name, why.c_str(), usage.c_str());
     return 2;
   };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
-      fputs(program.usage, stdout);
+      fputs(usage.c_str(), stdout);
       return 0;
     }
     if (a == "--no-baud-check") {

@@ -30,9 +30,14 @@ struct EmulatorOptions {
 struct EmulatorProgram {
   /// "troupe-emulate-p2os": for messages.
   const char* name = "";
-  /// The whole --help text.
-  const char* usage = "";
-  /// The bauds the device speaks, bit/s, and how to say so.
+  /// What --help says beyond the common flags: the device's flags for the
+  /// usage line ("[--model NAME]"), a description, the device's flags'
+  /// help lines, and examples.
+  const char* synopsis = "";
+  const char* about = "";
+  const char* flags_help = "";
+  const char* examples = "";
+  /// The bauds the device speaks, bit/s; the first is the default.
   std::vector<uint32_t> bauds;
   /// A device flag taking a value: `set(value)` returns an error, or "".
   struct Flag {
@@ -48,6 +53,8 @@ struct EmulatorProgram {
   int poll_ms = 5;
 };
 
+/// The whole --help text.
+std::string emulator_usage(const EmulatorProgram& program);
 /// Parses `argv`, runs the device until a stop signal; the exit code.
 int emulator_main(int argc, char** argv, const EmulatorProgram& program);
 
