@@ -32,7 +32,7 @@ constexpr double kOnTrackM = 0.25;
 // Recovered: on track for this many consecutive steps (3 s).
 constexpr size_t kSettledSteps = 30;
 // The bounds the test holds mcl to, in simulated 100 ms steps (measured:
-// lost said 1 to 3 steps after the teleport, recovered about 1 s later).
+// lost said 3 steps after the teleport, on track again from step 15).
 constexpr size_t kNoticeWithinSteps = 30;
 constexpr size_t kRecoverWithinSteps = 600;
 
