@@ -205,8 +205,10 @@ bool ParticleFilter::finish_update(double w_avg, const Score& score, Rng& rng) {
   return true;
 }
 
+// Not inlined: the cold path of a lost filter stays out of the update's hot
+// code (and shows up by name in a profile).
 template <typename Score>
-void ParticleFilter::draw_candidates(const Score& score, Rng& rng) {
+[[gnu::noinline]] void ParticleFilter::draw_candidates(const Score& score, Rng& rng) {
   const size_t n = params_.recovery_candidates;
   if (n == 0) return;  // resample() draws uniform poses itself
   drawn_.resize(n);
