@@ -94,7 +94,8 @@ bool evaluate_log(const CarmenLog& log, const EvalOptions& opt, EvalResult& out,
     out.filter_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     Pose2 best = filter.best();
     out.scans.push_back({s.time_s, distance(best, l.laser_pose),
-                         std::fabs(wrap_angle(best.a - l.laser_pose.a)), filter.particles().size(), filter.lost()});
+                         std::fabs(wrap_angle(best.a - l.laser_pose.a)), filter.particles().size(),
+                         filter.lost()});
   }
   out.kidnap_time_s = kidnap_time_s;
   out.summary = summarize(out.scans, kidnapped ? kidnap_time_s : 0.0);

@@ -220,7 +220,9 @@ template <typename Score>
   const size_t keep = std::clamp<size_t>(params_.recovery_keep, 1, n);
   // Best first; ties (equal scores) broken by draw order for determinism.
   std::partial_sort(scored_.begin(), scored_.begin() + long(keep), scored_.end(),
-                    [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+                    [](const auto& a, const auto& b) {
+                      return a.first > b.first || (a.first == b.first && a.second < b.second);
+                    });
   for (size_t i = 0; i < keep; ++i) candidates_.push_back(drawn_[scored_[i].second]);
 }
 
@@ -231,7 +233,8 @@ bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
     cluster();
     return false;
   }
-  return finish_update(w_avg, [this](const Pose2& p) { return beams_log_likelihood(p); }, rng);
+  return finish_update(
+      w_avg, [this](const Pose2& p) { return beams_log_likelihood(p); }, rng);
 }
 
 bool ParticleFilter::update(const Pose2& odom, const PoseLikelihood& measurement, Rng& rng) {
@@ -250,8 +253,9 @@ bool ParticleFilter::update(const Pose2& odom, const PoseLikelihood& measurement
   double sum = 0;
   for (Particle& p : particles_) sum += (p.weight = std::exp(p.weight - top));
   for (Particle& p : particles_) p.weight /= sum;
-  return finish_update(std::exp((top + std::log(sum)) / double(terms)),
-                       [&measurement](const Pose2& p) { return measurement.log_likelihood(p); }, rng);
+  return finish_update(
+      std::exp((top + std::log(sum)) / double(terms)),
+      [&measurement](const Pose2& p) { return measurement.log_likelihood(p); }, rng);
 }
 
 void ParticleFilter::resample(Rng& rng) {

@@ -37,7 +37,8 @@ const char* odometry_break(const desktop::Pose2& from, const desktop::Pose2& to,
   const bool at_origin = std::hypot(to.x, to.y) < kOriginM && std::fabs(to.a) < kOriginRad;
   if (at_origin && (moved >= kJitterM || turned >= kJitterRad)) return "jumped back to its origin";
   if (max_speed > 0 && moved > max_speed * dt + kJitterM) return "moved faster than odom_max_speed";
-  if (max_turn_rate > 0 && turned > max_turn_rate * dt + kJitterRad) return "turned faster than odom_max_turn_rate";
+  if (max_turn_rate > 0 && turned > max_turn_rate * dt + kJitterRad)
+    return "turned faster than odom_max_turn_rate";
   return nullptr;
 }
 

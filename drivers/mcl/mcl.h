@@ -72,7 +72,7 @@ class Mcl : public Driver {
   TimerId wait_timer_ = 0;
   uint64_t odom_wait_us_ = 0;
   double odom_max_speed_ = 0, odom_max_turn_rate_ = 0;  // m/s, rad/s
-  bool said_lost_ = false;  // the lost state last logged
+  bool said_lost_ = false;                              // the lost state last logged
   // Newest odometry first-in-first-out, enough for a few seconds.
   static constexpr size_t kOdomHistory = 256;
   std::vector<OdomSample> odom_;

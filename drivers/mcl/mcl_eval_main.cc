@@ -125,7 +125,8 @@ int main(int argc, char** argv) {
       char tail = 0;
       if (std::sscanf(v, "%lf,%lf,%lf%c", &x, &y, &deg, &tail) != 3 || !std::isfinite(x) ||
           !std::isfinite(y) || !std::isfinite(deg) || std::fabs(x) > 1e4 || std::fabs(y) > 1e4) {
-        std::fprintf(stderr, "troupe-mcl-eval: --jump '%s' must be X,Y,DEG (m, m, degrees; |X|, |Y| <= 10000)\n", v);
+        std::fprintf(stderr,
+                     "troupe-mcl-eval: --jump '%s' must be X,Y,DEG (m, m, degrees; |X|, |Y| <= 10000)\n", v);
         return 2;
       }
       opt.kidnap_jump = {x, y, wrap_angle(deg * kPi / 180)};
@@ -151,6 +152,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   for (const std::string& e : log.errors) std::fprintf(stderr, "troupe-mcl-eval: %s (skipped)\n", e.c_str());
+  if (opt.kidnap_scan != EvalOptions::kNoKidnap && opt.kidnap_scan >= log.scans.size()) {
+    std::fprintf(stderr, "troupe-mcl-eval: --kidnap %zu: the log has %zu scans (0 to %zu)\n", opt.kidnap_scan,
+                 log.scans.size(), log.scans.size() - 1);
+    return 2;
+  }
   EvalResult result;
   if (!evaluate_log(log, opt, result, error)) {
     std::fprintf(stderr, "troupe-mcl-eval: %s: %s\n", log_path, error.c_str());
@@ -164,14 +170,10 @@ int main(int argc, char** argv) {
   std::printf("mcl: %s, particles %zu..%zu, %zu beams, seed %llu, recovery %s\n",
               opt.global ? "global start" : "tracking", opt.mcl.min_particles, opt.mcl.max_particles,
               opt.mcl.max_beams, (unsigned long long)opt.seed,
-              opt.mcl.recovery_candidates == 0 ? "uniform"
-                                               : ("best of " + std::to_string(opt.mcl.recovery_candidates)).c_str());
+              opt.mcl.recovery_candidates == 0
+                  ? "uniform"
+                  : ("best of " + std::to_string(opt.mcl.recovery_candidates)).c_str());
   if (opt.kidnap_scan != EvalOptions::kNoKidnap) {
-    if (result.kidnap_time_s == 0 && opt.kidnap_scan >= log.scans.size()) {
-      std::fprintf(stderr, "troupe-mcl-eval: --kidnap %zu: the log has %zu scans\n", opt.kidnap_scan,
-                   log.scans.size());
-      return 2;
-    }
     std::printf("kidnap: at scan %zu (%.2f s) the odometry jumps by (%.2f m, %.2f m, %.1f deg)\n",
                 opt.kidnap_scan, result.kidnap_time_s, opt.kidnap_jump.x, opt.kidnap_jump.y,
                 opt.kidnap_jump.a * 180 / kPi);
@@ -188,9 +190,9 @@ int main(int argc, char** argv) {
   std::printf("scans %zu, max_deg %.2f, mean particles %.0f, filter time %.1f ms per scan\n",
               result.scans.size(), s.max_deg, s.mean_particles,
               1e3 * result.filter_seconds / double(result.scans.size()));
-  std::printf("mean_m=%.3f max_m=%.3f mean_deg=%.2f within_10cm=%.3f said_lost=%.3f unaware_off=%.3f "
-              "noticed_s=%.1f recovered_s=%.1f\n",
-              s.mean_m, s.max_m, s.mean_deg, s.within_10cm, s.said_lost, s.unaware_off, s.noticed_s,
-              s.recovered_s);
+  std::printf(
+      "mean_m=%.3f max_m=%.3f mean_deg=%.2f within_10cm=%.3f said_lost=%.3f unaware_off=%.3f "
+      "noticed_s=%.1f recovered_s=%.1f\n",
+      s.mean_m, s.max_m, s.mean_deg, s.within_10cm, s.said_lost, s.unaware_off, s.noticed_s, s.recovered_s);
   return 0;
 }

@@ -309,7 +309,8 @@ TEST(DesktopDrivers, MclIgnoresTheOdometryJumpOfARestartedRobot) {
       auto& b = node.begin();
       wire::Pose2d pose(float(odometry.x), float(odometry.y), float(odometry.a));
       auto body = wire::CreatePosition2dState(b, &pose);
-      node.publish(odom, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(), t);
+      node.publish(odom, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(),
+                   t);
       std::vector<float> r = desktop::testing::cast_scan(map, truth, laser);
       std::vector<uint16_t> mm(r.size());
       for (size_t i = 0; i < r.size(); ++i) mm[i] = uint16_t(std::lround(r[i] * 1000));

@@ -150,7 +150,8 @@ TEST(Mcl, RecoversFromKidnapping) {
 // scans are about 3 s apart).
 TEST(Mcl, AcesLogKidnappedMidLogRecovers) {
   const std::string path = std::string(TROUPE_SHARED_DATA) + "/carmen/aces-corrected.log.gz";
-  if (!std::ifstream(path)) GTEST_SKIP() << "no " << path << " (the shared test data is not beside the project)";
+  if (!std::ifstream(path))
+    GTEST_SKIP() << "no " << path << " (the shared test data is not beside the project)";
   CarmenLog log;
   std::string error;
   ASSERT_TRUE(read_carmen(path, log, error)) << error;

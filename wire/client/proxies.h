@@ -9,8 +9,8 @@
 //   while (client.spin_once(100)) printf("x=%.2f\n", base.x());
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>

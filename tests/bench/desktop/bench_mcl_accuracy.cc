@@ -48,7 +48,8 @@ void recovery_table(const CarmenLog& log, int seeds) {
       {"global start", EvalOptions::kNoKidnap, {}, true},
   };
   std::printf("ACES log, lost and found, %d seeds: median [worst] over seeds (-1: never)\n\n", seeds);
-  std::printf("| case | recovery | said lost after s | on track after s | said_lost | unaware_off | mean_m |\n");
+  std::printf(
+      "| case | recovery | said lost after s | on track after s | said_lost | unaware_off | mean_m |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|\n");
   for (const Case& c : cases) {
     for (size_t candidates : {size_t(20000), size_t(0)}) {
@@ -75,10 +76,10 @@ void recovery_table(const CarmenLog& log, int seeds) {
       }
       auto worst = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
       auto secs = [](double v) { return std::isinf(v) ? -1.0 : v; };
-      std::printf("| %s | %s | %.1f [%.1f] | %.1f [%.1f] | %.3f [%.3f] | %.3f [%.3f] | %.3f [%.3f] |\n", c.name,
-                  candidates ? "best of 20000 scored" : "uniform", secs(median(noticed)), secs(worst(noticed)),
-                  secs(median(recovered)), secs(worst(recovered)), median(lost), worst(lost), median(unaware),
-                  worst(unaware), median(mean_m), worst(mean_m));
+      std::printf("| %s | %s | %.1f [%.1f] | %.1f [%.1f] | %.3f [%.3f] | %.3f [%.3f] | %.3f [%.3f] |\n",
+                  c.name, candidates ? "best of 20000 scored" : "uniform", secs(median(noticed)),
+                  secs(worst(noticed)), secs(median(recovered)), secs(worst(recovered)), median(lost),
+                  worst(lost), median(unaware), worst(unaware), median(mean_m), worst(mean_m));
       std::fflush(stdout);
     }
   }

@@ -44,8 +44,8 @@ struct Scene {
 
 struct Run {
   double mean_m = 0, max_m = 0, mean_deg = 0;
-  double lock_s = -1;     // global: s until the error stays under 0.25 m; -1: never
-  double said_lost = 0;   // share of the steps after which the filter said it was lost
+  double lock_s = -1;    // global: s until the error stays under 0.25 m; -1: never
+  double said_lost = 0;  // share of the steps after which the filter said it was lost
 };
 
 double odom_error = 0.05;  // the robots' odom_error, each axis (x, y, heading)
@@ -188,8 +188,8 @@ void table(const Scene& scene, int seeds, double seconds) {
   std::printf("%s: troupe-sim engine, wander controller, %.0f s at 10 Hz, odom_error %.2f, %s\n\n",
               scene.name.c_str(), seconds, odom_error, params);
   std::printf(
-      "| seed | tracking mean_m | tracking max_m | tracking mean_deg | tracking said_lost | global: converged "
-      "after s |\n");
+      "| seed | tracking mean_m | tracking max_m | tracking mean_deg | tracking said_lost "
+      "| global: converged after s |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|\n");
   std::vector<double> means, maxes, degs, locks, lost;
   for (int seed = 1; seed <= seeds; ++seed) {
@@ -197,8 +197,8 @@ void table(const Scene& scene, int seeds, double seconds) {
     Run gl = run(scene, map, uint64_t(seed), true, seconds);
     char lock[32];
     std::snprintf(lock, sizeof lock, gl.lock_s < 0 ? "never" : "%.1f", gl.lock_s);
-    std::printf("| %d | %.3f | %.3f | %.2f | %.3f | %s |\n", seed, tr.mean_m, tr.max_m, tr.mean_deg, tr.said_lost,
-                lock);
+    std::printf("| %d | %.3f | %.3f | %.2f | %.3f | %s |\n", seed, tr.mean_m, tr.max_m, tr.mean_deg,
+                tr.said_lost, lock);
     std::fflush(stdout);
     lost.push_back(tr.said_lost);
     means.push_back(tr.mean_m);
@@ -208,9 +208,10 @@ void table(const Scene& scene, int seeds, double seconds) {
   }
   std::printf("| median | %.3f | %.3f | %.2f | %.3f | %.1f |\n", median(means), median(maxes), median(degs),
               median(lost), median(locks));
-  std::printf("| worst | %.3f | %.3f | %.2f | %.3f | %.1f |\n\n", *std::max_element(means.begin(), means.end()),
-              *std::max_element(maxes.begin(), maxes.end()), *std::max_element(degs.begin(), degs.end()),
-              *std::max_element(lost.begin(), lost.end()), *std::max_element(locks.begin(), locks.end()));
+  std::printf("| worst | %.3f | %.3f | %.2f | %.3f | %.1f |\n\n",
+              *std::max_element(means.begin(), means.end()), *std::max_element(maxes.begin(), maxes.end()),
+              *std::max_element(degs.begin(), degs.end()), *std::max_element(lost.begin(), lost.end()),
+              *std::max_element(locks.begin(), locks.end()));
 }
 
 }  // namespace
