@@ -3,7 +3,9 @@
 // with odometry made from those poses plus seeded drift and slip, runs MCL
 // against the real scans and compares every estimate with the corrected
 // pose. The last line is the summary:
-//   mean_m=... max_m=... mean_deg=... within_10cm=...
+//   mean_m=... max_m=... mean_deg=... within_10cm=... said_lost=...
+//   unaware_off=... noticed_s=... recovered_s=...
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -15,7 +17,8 @@ namespace {
 
 const char kUsage[] =
     "usage: troupe-mcl-eval LOG [--seed N] [--particles N] [--beams N] [--resolution M] [--global]\n"
-    "                       [--sigma-hit M] [--motion-noise A] [--per-scan]\n"
+    "                       [--sigma-hit M] [--motion-noise A] [--candidates N] [--kidnap SCAN]\n"
+    "                       [--jump X,Y,DEG] [--per-scan]\n"
     "\n"
     "Monte Carlo localization on a CARMEN log (FLASER or ROBOTLASER1 lines; plain\n"
     "or gzip) whose scan poses are SLAM-corrected. The map is drawn from those\n"
@@ -29,11 +32,23 @@ const char kUsage[] =
     "  --global        start from uniform particles, not the first pose\n"
     "  --sigma-hit M   likelihood field's range error sigma, m (default 0.2)\n"
     "  --motion-noise A  all four odometry noise alphas (default 0.01)\n"
+    "  --candidates N  poses scored against the scan per update while lost, the\n"
+    "                  best injected (default 20000; 0: uniform poses injected)\n"
+    "  --kidnap SCAN   the kidnapped robot: from scan SCAN on, the replayed\n"
+    "                  odometry jumps by --jump (the filter takes it as motion)\n"
+    "  --jump X,Y,DEG  the jump in the robot's frame: m, m, degrees (default 0,4,90)\n"
     "  --per-scan      print every scan's error\n"
+    "\n"
+    "The summary's said_lost is the share of scans after which the filter said\n"
+    "it was lost, unaware_off the share where the estimate was over 1 m off\n"
+    "while the filter did not say so. noticed_s and recovered_s count from the\n"
+    "kidnapping (or the first scan): until the filter first said it was lost,\n"
+    "and until the estimate stays within 1 m to the end (-1: never).\n"
     "\n"
     "examples:\n"
     "  troupe-mcl-eval aces-corrected.log.gz --seed 3 --particles 2000\n"
-    "  troupe mcl-eval aces-corrected.log.gz --global --per-scan   # from no idea where it is\n";
+    "  troupe mcl-eval aces-corrected.log.gz --global --per-scan   # from no idea where it is\n"
+    "  troupe mcl-eval aces-corrected.log.gz --kidnap 220           # carried off mid-log\n";
 
 bool parse_count(const char* text, uint64_t max, uint64_t& out) {
   char* end = nullptr;
@@ -100,6 +115,21 @@ int main(int argc, char** argv) {
       } else {
         opt.mcl.motion = {x, x, x, x};
       }
+    } else if (std::strcmp(argv[i], "--candidates") == 0) {
+      opt.mcl.recovery_candidates = count("--candidates", 0, 10'000'000);
+    } else if (std::strcmp(argv[i], "--kidnap") == 0) {
+      opt.kidnap_scan = count("--kidnap", 0, 100'000'000);
+    } else if (std::strcmp(argv[i], "--jump") == 0) {
+      const char* v = value("--jump");
+      double x = 0, y = 0, deg = 0;
+      char tail = 0;
+      if (std::sscanf(v, "%lf,%lf,%lf%c", &x, &y, &deg, &tail) != 3 || !std::isfinite(x) ||
+          !std::isfinite(y) || !std::isfinite(deg) || std::fabs(x) > 1e4 || std::fabs(y) > 1e4) {
+        std::fprintf(stderr,
+                     "troupe-mcl-eval: --jump '%s' must be X,Y,DEG (m, m, degrees; |X|, |Y| <= 10000)\n", v);
+        return 2;
+      }
+      opt.kidnap_jump = {x, y, wrap_angle(deg * kPi / 180)};
     } else if (std::strcmp(argv[i], "--global") == 0) {
       opt.global = true;
     } else if (std::strcmp(argv[i], "--per-scan") == 0) {
@@ -122,6 +152,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   for (const std::string& e : log.errors) std::fprintf(stderr, "troupe-mcl-eval: %s (skipped)\n", e.c_str());
+  if (opt.kidnap_scan != EvalOptions::kNoKidnap && opt.kidnap_scan >= log.scans.size()) {
+    std::fprintf(stderr, "troupe-mcl-eval: --kidnap %zu: the log has %zu scans (0 to %zu)\n", opt.kidnap_scan,
+                 log.scans.size(), log.scans.size() - 1);
+    return 2;
+  }
   EvalResult result;
   if (!evaluate_log(log, opt, result, error)) {
     std::fprintf(stderr, "troupe-mcl-eval: %s: %s\n", log_path, error.c_str());
@@ -132,21 +167,32 @@ int main(int argc, char** argv) {
               log.scans.front().ranges.size(), log.error_count);
   std::printf("map: %ux%u cells, resolution %.3f m, origin (%.3f, %.3f) m\n", map.width(), map.height(),
               map.resolution(), map.origin().x, map.origin().y);
-  std::printf("mcl: %s, particles %zu..%zu, %zu beams, seed %llu\n", opt.global ? "global start" : "tracking",
-              opt.mcl.min_particles, opt.mcl.max_particles, opt.mcl.max_beams, (unsigned long long)opt.seed);
+  std::printf("mcl: %s, particles %zu..%zu, %zu beams, seed %llu, recovery %s\n",
+              opt.global ? "global start" : "tracking", opt.mcl.min_particles, opt.mcl.max_particles,
+              opt.mcl.max_beams, (unsigned long long)opt.seed,
+              opt.mcl.recovery_candidates == 0
+                  ? "uniform"
+                  : ("best of " + std::to_string(opt.mcl.recovery_candidates)).c_str());
+  if (opt.kidnap_scan != EvalOptions::kNoKidnap) {
+    std::printf("kidnap: at scan %zu (%.2f s) the odometry jumps by (%.2f m, %.2f m, %.1f deg)\n",
+                opt.kidnap_scan, result.kidnap_time_s, opt.kidnap_jump.x, opt.kidnap_jump.y,
+                opt.kidnap_jump.a * 180 / kPi);
+  }
   if (per_scan) {
-    std::printf("%6s %10s %9s %9s %9s\n", "scan", "time_s", "err_m", "err_deg", "particles");
+    std::printf("%6s %10s %9s %9s %9s %5s\n", "scan", "time_s", "err_m", "err_deg", "particles", "lost");
     for (size_t i = 0; i < result.scans.size(); ++i) {
       const ScanError& e = result.scans[i];
-      std::printf("%6zu %10.2f %9.3f %9.2f %9zu\n", i, e.time_s, e.trans_m, e.angle_rad * 180 / kPi,
-                  e.particles);
+      std::printf("%6zu %10.2f %9.3f %9.2f %9zu %5s\n", i, e.time_s, e.trans_m, e.angle_rad * 180 / kPi,
+                  e.particles, e.lost ? "lost" : "-");
     }
   }
   const EvalSummary& s = result.summary;
   std::printf("scans %zu, max_deg %.2f, mean particles %.0f, filter time %.1f ms per scan\n",
               result.scans.size(), s.max_deg, s.mean_particles,
               1e3 * result.filter_seconds / double(result.scans.size()));
-  std::printf("mean_m=%.3f max_m=%.3f mean_deg=%.2f within_10cm=%.3f\n", s.mean_m, s.max_m, s.mean_deg,
-              s.within_10cm);
+  std::printf(
+      "mean_m=%.3f max_m=%.3f mean_deg=%.2f within_10cm=%.3f said_lost=%.3f unaware_off=%.3f "
+      "noticed_s=%.1f recovered_s=%.1f\n",
+      s.mean_m, s.max_m, s.mean_deg, s.within_10cm, s.said_lost, s.unaware_off, s.noticed_s, s.recovered_s);
   return 0;
 }

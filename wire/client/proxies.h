@@ -9,8 +9,8 @@
 //   while (client.spin_once(100)) printf("x=%.2f\n", base.x());
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -178,6 +178,8 @@ class LocalizeProxy final : public Proxy {
   explicit LocalizeProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
   /// Pose hypotheses, best first (map frame; m, rad).
   const std::vector<wire::Hypothesis>& hypotheses() const { return hypotheses_; }
+  /// The localizer says it is lost: the hypotheses are not to be trusted.
+  bool lost() const { return lost_; }
   /// Starts pose tracking from a pose (m, m, rad) with a diagonal
   /// covariance: standard deviations in m, m, rad.
   bool set_pose(float x, float y, float a, float sx, float sy, float sa);
@@ -187,6 +189,7 @@ class LocalizeProxy final : public Proxy {
  private:
   void update(const wire::Message& msg) override;
   std::vector<wire::Hypothesis> hypotheses_;
+  bool lost_ = false;
 };
 
 /// An occupancy grid fetched whole from a map device.

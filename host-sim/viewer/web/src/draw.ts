@@ -1,6 +1,12 @@
 // Drawing the scene on a 2D canvas. The view maps world metres to CSS
 // pixels: x right, y up, `scale` pixels per metre around `center`.
-import { colorOf, compose, Pose, Robot, Scene } from './scene';
+import { BlobImage, BlobView, colorOf, compose, Pose, Robot, Scene } from './scene';
+
+/// A blobfinder's horizontal field of view, rad. The wire's blob list does
+/// not carry it; this is troupe-sim's and Stage's default (60 degrees).
+const kBlobFov = Math.PI / 3;
+/// How far a blob of unknown range is drawn (as a bearing ray), m.
+const kBlobRayM = 3;
 
 export class View {
   center = { x: 0, y: 0 }; // m
@@ -56,7 +62,10 @@ export function draw(view: View, scene: Scene, state: DrawState): void {
   }
 
   for (const r of scene.robots) drawTrail(ctx, view, r, r === state.selected);
-  if (state.selected) drawSensors(ctx, view, scene, state.selected);
+  if (state.selected) {
+    drawSensors(ctx, view, scene, state.selected);
+    drawWorldBlobs(ctx, view, scene, state.selected);
+  }
   for (const r of scene.robots) {
     const dragged = state.drag?.robot === r;
     drawRobot(ctx, view, r, r.pose, r === state.selected, dragged ? 0.35 : 1);
@@ -167,9 +176,50 @@ function drawSensors(ctx: CanvasRenderingContext2D, view: View, scene: Scene, r:
   }
 }
 
+/// Where a blob is in the world, seen by `robot` (the blobfinder at its
+/// centre, looking ahead): its bearing from the image column (x grows to
+/// the right, against the bearing), its range from the data. The blob's
+/// width across the view, m (0 when its range is unknown).
+export function blobInWorld(robot: Pose, image: BlobImage, blob: BlobView): { at: Pose; width: number } {
+  const w = Math.max(image.width, 1);
+  const bearing = (0.5 - (blob.x + 0.5) / w) * kBlobFov;
+  const range = blob.range > 0 ? blob.range : kBlobRayM;
+  const at = compose(robot, { x: range * Math.cos(bearing), y: range * Math.sin(bearing), a: bearing });
+  const width = blob.range > 0 ? ((blob.r - blob.l + 1) / w) * kBlobFov * blob.range : 0;
+  return { at, width };
+}
+
+/// The selected robot's blobs in the world view: a disc of the blob's
+/// colour where it was seen (a dashed ray where its range is unknown),
+/// joined to the robot.
+function drawWorldBlobs(ctx: CanvasRenderingContext2D, view: View, scene: Scene, r: Robot): void {
+  for (const [key, image] of scene.blobs) {
+    if (!key.startsWith(`${r.number}/`)) continue;
+    const [rx, ry] = view.toScreen(r.pose.x, r.pose.y);
+    for (const blob of image.list) {
+      const { at, width } = blobInWorld(r.pose, image, blob);
+      const [x, y] = view.toScreen(at.x, at.y);
+      ctx.strokeStyle = colorOf(blob.color);
+      ctx.lineWidth = 1.5;
+      ctx.setLineDash(width > 0 ? [] : [4, 4]);
+      ctx.beginPath();
+      ctx.moveTo(rx, ry);
+      ctx.lineTo(x, y);
+      ctx.stroke();
+      ctx.setLineDash([]);
+      if (width <= 0) continue;
+      ctx.fillStyle = colorOf(blob.color);
+      ctx.strokeStyle = '#111';
+      ctx.beginPath();
+      ctx.arc(x, y, Math.max((width / 2) * view.scale, 5), 0, 2 * Math.PI);
+      ctx.fill();
+      ctx.stroke();
+    }
+  }
+}
+
 /// The blobs of a blobfinder as its camera image sees them.
-export function drawBlobs(canvas: HTMLCanvasElement, blobs: { width: number; height: number;
-                            list: { color: number; l: number; r: number; t: number; b: number }[] }): void {
+export function drawBlobs(canvas: HTMLCanvasElement, blobs: BlobImage): void {
   const ctx = canvas.getContext('2d')!;
   ctx.fillStyle = '#222';
   ctx.fillRect(0, 0, canvas.width, canvas.height);

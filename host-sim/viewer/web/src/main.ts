@@ -3,7 +3,7 @@
 // controls. window.troupeViewer exposes the state for tests and the console.
 import * as W from 'troupe-wire';
 import { Connection, DeviceEntry } from './connection';
-import { draw, drawBlobs, View } from './draw';
+import { blobInWorld, draw, drawBlobs, View } from './draw';
 import { colorOf, fmt, Pose, Robot, Scene } from './scene';
 
 const kSimulation = 11, kMap = 10, kPosition2d = 1, kRanger = 2;
@@ -27,16 +27,44 @@ const conn = new Connection(`${location.protocol === 'https:' ? 'wss' : 'ws'}://
 conn.onData = (msg, addr) => scene.onData(msg, addr);
 conn.onClose = (why) => {
   closeReason = why;
-  setStatus(`disconnected: ${why}`);
+  ready = false;
+  document.body.dataset.ready = 'false';
   document.body.dataset.connected = 'false';
 };
+conn.onState = (link) => {
+  document.body.dataset.link = link;
+  showLink();
+};
+
+/// The status line while not connected: why, and when the next attempt is.
+function showLink(): void {
+  if (conn.state === 'open') return;
+  const why = closeReason ? `disconnected: ${closeReason}; ` : '';
+  if (conn.state === 'connecting') {
+    setStatus(`${why}connecting${conn.failedAttempts ? ` (attempt ${conn.failedAttempts + 1})` : ''}…`);
+  } else {
+    const s = Math.max(0, (conn.retryAt - performance.now()) / 1000);
+    setStatus(`${why}reconnecting in ${s.toFixed(1)} s (attempt ${conn.failedAttempts + 1})`);
+  }
+}
 
 function setStatus(text: string): void {
   $('status').textContent = text;
 }
 
+/// Learns the world from a new connection: the first, or one after the
+/// simulator or node restarted (then everything is learned again).
 async function start(): Promise<void> {
   document.body.dataset.connected = 'true';
+  closeReason = '';
+  ready = false;
+  mode = 'connecting';
+  simDevice = undefined;
+  opened.clear();
+  state.selected = null;
+  state.drag = null;
+  scene.reset();
+  document.body.classList.remove('node-mode');
   scene.devices = await conn.deviceList();
   simDevice = scene.devices.find((d) => d.addr.iface === kSimulation);
   if (simDevice) {
@@ -243,10 +271,13 @@ function updatePanel(): void {
   const option = [...speed.options].find((o) => Number(o.value) === scene.speed);
   if (document.activeElement !== speed && option) speed.value = option.value;
   document.body.dataset.paused = String(scene.paused);
-  if (ready) {
+  if (ready && conn.state === 'open') {
     const what = mode === 'sim' ? `troupe-sim, ${scene.robots.length} robots` :
                                   `node ${conn.nodeName || ''}, ${scene.devices.length} devices`;
-    if (!closeReason) setStatus(`connected: ${what}${notice ? '; ' + notice : ''}`);
+    setStatus(`connected: ${what}${conn.opens > 1 ? ` (reconnected ${conn.opens - 1}×)` : ''}` +
+              `${notice ? '; ' + notice : ''}`);
+  } else {
+    showLink();
   }
   const panel = $('selected');
   if (!r) {
@@ -301,6 +332,8 @@ requestAnimationFrame(frame);
   get ready() { return ready; },
   get mode() { return mode; },
   get closeReason() { return closeReason; },
+  get link() { return conn.state; },
+  get opens() { return conn.opens; },
   get simTime() { return scene.simTime; },
   get steps() { return scene.steps; },
   get paused() { return scene.paused; },
@@ -315,6 +348,19 @@ requestAnimationFrame(frame);
   values: () => Object.fromEntries(scene.devices.map((d) =>
     [d.text, scene.values.get(`${d.addr.robot}/${d.addr.iface}:${d.addr.index}`) ?? null])),
   beams: () => [...scene.rangers.values()].reduce((n, v) => n + v.ranges.length, 0),
+  /// The selected robot's blobs as drawn in the world view: colour, world
+  /// position (m) and page position (CSS px) of each.
+  worldBlobs: () => {
+    const r = state.selected;
+    if (!r) return [];
+    const box = canvas.getBoundingClientRect();
+    return [...scene.blobs].filter(([key]) => key.startsWith(`${r.number}/`)).flatMap(([, image]) =>
+      image.list.map((b) => {
+        const { at, width } = blobInWorld(r.pose, image, b);
+        const [x, y] = view.toScreen(at.x, at.y);
+        return { color: colorOf(b.color), x: at.x, y: at.y, width, pageX: box.left + x, pageY: box.top + y };
+      }));
+  },
   screenOf: (name: string) => {
     const r = scene.robot(name);
     if (!r) return null;

@@ -34,6 +34,25 @@ export interface RangerView {
   maxRange: number; // m
 }
 
+/// One blob of a blobfinder: image pixels (x right, y down) and range.
+export interface BlobView {
+  color: number; // 0x00RRGGBB
+  x: number; // centroid, px
+  y: number;
+  l: number; // bounding box, px
+  r: number;
+  t: number;
+  b: number;
+  range: number; // m; 0: unknown
+}
+
+/// A blobfinder's latest image: its size and blobs.
+export interface BlobImage {
+  width: number; // px
+  height: number; // px
+  list: BlobView[];
+}
+
 export interface MapImage {
   width: number; // cells
   height: number; // cells
@@ -73,13 +92,30 @@ export class Scene {
   /// Latest value of each device read, by addrKey, as text for the panel.
   values = new Map<string, string>();
   rangers = new Map<string, RangerView>();
-  blobs = new Map<string, { width: number; height: number; list: { color: number; x: number; y: number; l: number; r: number; t: number; b: number }[] }>();
+  blobs = new Map<string, BlobImage>();
   fiducials = new Map<string, { id: number; x: number; y: number; a: number }[]>();
   simTime = 0; // s
   steps = 0;
   paused = false;
   speed = 1;
   realTimeFactor = 0;
+
+  /// Forgets everything learned from the previous connection: a restarted
+  /// simulator or node may serve another world.
+  reset(): void {
+    this.robots = [];
+    this.byNumber.clear();
+    this.devices = [];
+    this.map = null;
+    this.values.clear();
+    this.rangers.clear();
+    this.blobs.clear();
+    this.fiducials.clear();
+    this.simTime = 0;
+    this.steps = 0;
+    this.paused = false;
+    this.odometryPoses = false;
+  }
 
   robot(name: string): Robot | undefined {
     return this.robots.find((r) => r.name === name);
@@ -195,10 +231,11 @@ export class Scene {
       }
       case W.Body.BlobList: {
         const s = msg.body(new W.BlobList()) as W.BlobList;
-        const list = [];
+        const list: BlobView[] = [];
         for (let i = 0; i < s.blobsLength(); ++i) {
           const b = s.blobs(i)!;
-          list.push({ color: b.color(), x: b.x(), y: b.y(), l: b.left(), r: b.right(), t: b.top(), b: b.bottom() });
+          list.push({ color: b.color(), x: b.x(), y: b.y(), l: b.left(), r: b.right(), t: b.top(), b: b.bottom(),
+                      range: b.rangeMm() / 1000 });
         }
         this.blobs.set(key, { width: s.width(), height: s.height(), list });
         this.values.set(key, `${list.length} blobs` + list.map((b) => ` ${colorOf(b.color)}@${b.x},${b.y}`).join(''));
