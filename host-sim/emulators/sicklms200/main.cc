@@ -1,4 +1,4 @@
-// troupe-emulate-sicklms200: a SICK LMS200 on a pseudo-terminal, for trying
+// troupe-emulate-sick: a SICK LMS200 on a pseudo-terminal, for trying
 // the sicklms200 driver without a scanner. Prints the port's path on
 // stdout, then runs until interrupted.
 #include <poll.h>
@@ -16,7 +16,7 @@
 namespace {
 
 const char kUsage[] =
-    "usage: troupe-emulate-sicklms200 [--link PATH] [--baud N] [--flip P] [--drop P] [--tear P]\n"
+    "usage: troupe-emulate-sick [--link PATH] [--baud N] [--flip P] [--drop P] [--tear P]\n"
     "                                 [--seed N] [--no-baud-check]\n"
     "\n"
     "Emulates a SICK LMS200 laser scanner on a new pseudo-terminal and prints\n"
@@ -32,8 +32,8 @@ const char kUsage[] =
     "  --no-baud-check  talk whatever speed the driver's end is set to\n"
     "\n"
     "examples:\n"
-    "  troupe-emulate-sicklms200 --link laser-port\n"
-    "  troupe emulate-sicklms200 --link laser-port --tear 0.05 --seed 3   # torn telegrams\n";
+    "  troupe-emulate-sick --link laser-port\n"
+    "  troupe emulate-sick --link laser-port --tear 0.05 --seed 3   # torn telegrams\n";
 
 volatile sig_atomic_t g_stop = 0;
 
@@ -45,7 +45,7 @@ double number(const char* flag, const char* text) {
   char* end = nullptr;
   double v = strtod(text, &end);
   if (end == text || *end != '\0' || v < 0) {
-    fprintf(stderr, "troupe-emulate-sicklms200: %s needs a number >= 0, not '%s'\n", flag, text);
+    fprintf(stderr, "troupe-emulate-sick: %s needs a number >= 0, not '%s'\n", flag, text);
     exit(2);
   }
   return v;
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     auto value = [&](const char* flag) -> const char* {
       if (i + 1 >= argc) {
-        fprintf(stderr, "troupe-emulate-sicklms200: %s needs a value\n%s", flag, kUsage);
+        fprintf(stderr, "troupe-emulate-sick: %s needs a value\n%s", flag, kUsage);
         exit(2);
       }
       return argv[++i];
@@ -84,13 +84,13 @@ int main(int argc, char** argv) {
     } else if (!strcmp(a, "--no-baud-check")) {
       config.check_baud = false;
     } else {
-      fprintf(stderr, "troupe-emulate-sicklms200: unexpected argument '%s'\n%s", a, kUsage);
+      fprintf(stderr, "troupe-emulate-sick: unexpected argument '%s'\n%s", a, kUsage);
       return 2;
     }
   }
   troupe::drivers::sicklms200::Mode unused{};
   if (!troupe::drivers::sicklms200::mode_for_baud(config.power_up_baud, unused)) {
-    fprintf(stderr, "troupe-emulate-sicklms200: --baud must be 9600, 38400 or 500000\n");
+    fprintf(stderr, "troupe-emulate-sick: --baud must be 9600, 38400 or 500000\n");
     return 2;
   }
 
@@ -98,14 +98,14 @@ int main(int argc, char** argv) {
   scanner.faults().rates = rates;
   std::string error;
   if (!scanner.open(link, error)) {
-    fprintf(stderr, "troupe-emulate-sicklms200: %s\n", error.c_str());
+    fprintf(stderr, "troupe-emulate-sick: %s\n", error.c_str());
     return 1;
   }
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
   printf("%s\n", scanner.path().c_str());
   fflush(stdout);
-  fprintf(stderr, "troupe-emulate-sicklms200: LMS200 at %u baud on %s\n", unsigned(config.power_up_baud),
+  fprintf(stderr, "troupe-emulate-sick: LMS200 at %u baud on %s\n", unsigned(config.power_up_baud),
           scanner.port().slave_path().c_str());
 
   while (!g_stop) {
