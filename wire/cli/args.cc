@@ -108,22 +108,23 @@ int usage_error(const CLI::App& app, const std::string& message) {
 
 namespace {
 
-CLI::Validator bound(double min, bool inclusive) {
-  const std::string what = (inclusive ? ">= " : "> ") + CLI::detail::to_string(min);
+// A number compared with `bound` by `op` (">=", ">" or "<=").
+CLI::Validator compare(const std::string& op, double bound) {
   return CLI::Validator(
-      [min, inclusive, what](std::string& text) -> std::string {
+      [op, bound](std::string& text) -> std::string {
         double v = 0;
-        bool number = CLI::detail::lexical_cast(text, v) && std::isfinite(v);
-        if (number && (inclusive ? v >= min : v > min)) return "";
-        return "needs a number " + what + ", not '" + text + "'";
+        bool ok = CLI::detail::lexical_cast(text, v) && std::isfinite(v) &&
+                  (op == ">=" ? v >= bound : op == ">" ? v > bound : v <= bound);
+        return ok ? "" : "needs a number " + op + " " + CLI::detail::to_string(bound) + ", not '" + text + "'";
       },
-      "", "bound");
+      "", "bound " + op);
 }
 
 }  // namespace
 
-CLI::Validator at_least(double min) { return bound(min, true); }
-CLI::Validator above(double min) { return bound(min, false); }
+CLI::Validator at_least(double min) { return compare(">=", min); }
+CLI::Validator above(double min) { return compare(">", min); }
+CLI::Validator at_most(double max) { return compare("<=", max); }
 
 CLI::Option* add_log_level(CLI::App& app, std::string& level) {
   return app.add_option("--log-level", level, "error, warn, info (default) or debug")
@@ -132,7 +133,7 @@ CLI::Option* add_log_level(CLI::App& app, std::string& level) {
 }
 
 CLI::Option* add_port(CLI::App& app, const std::string& flag, uint16_t& port, const std::string& what) {
-  return app.add_option(flag, port, what)->type_name("P");
+  return app.add_option(flag, port, what)->type_name("P")->check(at_least(0) & at_most(65535));
 }
 
 }  // namespace troupe::cli

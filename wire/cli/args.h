@@ -48,9 +48,10 @@ std::string help_text(const CLI::App& app);
 int usage_error(const CLI::App& app, const std::string& message);
 
 /// Checks of a number with one-line messages ("needs a number >= 1, not '0'"):
-/// at least `min`, or above it (a duration > 0).
+/// at least `min`, above it (a duration > 0), at most `max`; combine with &.
 CLI::Validator at_least(double min);
 CLI::Validator above(double min);
+CLI::Validator at_most(double max);
 
 /// `--log-level LEVEL`, one of error, warn, info, debug, into `level`
 /// (left as it is when the option is not given).
