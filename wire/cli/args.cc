@@ -63,9 +63,7 @@ std::unique_ptr<CLI::App> make_app(const std::string& name, Help help) {
 }
 
 int parse(CLI::App& app, int argc, const char* const* argv) {
-  // CLI11 takes the arguments last first.
-  std::vector<std::string> args(argv + 1, argv + argc);
-  return parse(app, args);
+  return parse(app, std::vector<std::string>(argv + 1, argv + argc));
 }
 
 int parse(CLI::App& app, const std::vector<std::string>& args) {
@@ -73,7 +71,7 @@ int parse(CLI::App& app, const std::vector<std::string>& args) {
   for (const std::string& a : args) {
     if (a == "--") break;
     if (a == "-h" || a == "--help") {
-      fputs(help_text(app).c_str(), stdout);
+      fputs(app.help().c_str(), stdout);
       return 0;
     }
   }
@@ -81,24 +79,22 @@ int parse(CLI::App& app, const std::vector<std::string>& args) {
   // (a number is never an option here).
   std::vector<std::string> reversed;
   for (auto it = args.rbegin(); it != args.rend(); ++it) {
-    bool short_number = it->size() > 2 && it->rfind("-.", 0) == 0 && isdigit((unsigned char)(*it)[2]);
+    bool short_number = it->size() > 2 && it->rfind("-.", 0) == 0 && isdigit(static_cast<unsigned char>((*it)[2]));
     reversed.push_back(short_number ? "-0" + it->substr(1) : *it);
   }
   try {
     app.parse(reversed);
-  } catch (const CLI::Success&) {
-    fputs(help_text(app).c_str(), stdout);
-    return 0;
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
     // CLI11's sentences start with a capital; ours are lower-case clauses.
-    if (message.size() > 1 && isupper(message[0]) && islower(message[1])) message[0] = char(tolower(message[0]));
+    if (message.size() > 1 && isupper(static_cast<unsigned char>(message[0])) &&
+        islower(static_cast<unsigned char>(message[1]))) {
+      message[0] = char(tolower(static_cast<unsigned char>(message[0])));
+    }
     return usage_error(app, message);
   }
   return -1;
 }
-
-std::string help_text(const CLI::App& app) { return app.help(); }
 
 int usage_error(const CLI::App& app, const std::string& message) {
   const std::string& name = app.get_name();

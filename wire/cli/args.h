@@ -4,7 +4,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,9 +38,6 @@ std::unique_ptr<CLI::App> make_app(const std::string& name, Help help);
 /// "NAME: what is wrong (see: NAME --help)".
 int parse(CLI::App& app, int argc, const char* const* argv);
 int parse(CLI::App& app, const std::vector<std::string>& args);
-
-/// The help text `app` prints for --help.
-std::string help_text(const CLI::App& app);
 
 /// Prints "NAME: message (see: NAME --help)" on stderr for an error found
 /// after parsing (a bad address, say), and returns kExitUsage.
