@@ -91,8 +91,12 @@ install(DIRECTORY ${TROUPE_GENERATED_DIR}/wire/schemas/ DESTINATION include/trou
 include(CMakePackageConfigHelpers)
 set(_cmake_dir lib/cmake/Troupe)
 install(EXPORT TroupeTargets NAMESPACE Troupe:: DESTINATION ${_cmake_dir})
+# The generated headers include FlatBuffers' (libflatbuffers-dev), and a
+# library of the closure may link its target.
 file(WRITE ${PROJECT_BINARY_DIR}/install/TroupeConfig.cmake
      "# find_package(Troupe): the C++ client library as Troupe::client.\n"
+     "include(CMakeFindDependencyMacro)\n"
+     "find_dependency(FlatBuffers CONFIG)\n"
      "include(\"\${CMAKE_CURRENT_LIST_DIR}/TroupeTargets.cmake\")\n")
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/install/TroupeConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
