@@ -1,5 +1,5 @@
 // The one main() of the serial-line emulator programs (troupe-emulate-p2os,
-// troupe-emulate-sicklms200): the flags every serial device shares (--link,
+// troupe-emulate-sick): the flags every serial device shares (--link,
 // --baud, faults, --seed, --no-baud-check), the device's own flags, then
 // the device on a new pseudo-terminal, its path printed on stdout, stepped
 // until SIGINT or SIGTERM. Argument parsing stays here, small and

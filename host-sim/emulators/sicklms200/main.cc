@@ -1,4 +1,4 @@
-// troupe-emulate-sicklms200: a SICK LMS200 on a pseudo-terminal, for trying
+// troupe-emulate-sick: a SICK LMS200 on a pseudo-terminal, for trying
 // the sicklms200 driver (or any LMS2xx client) without a scanner. Prints
 // the port's path on stdout, then runs until interrupted.
 #include <cstdlib>
@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   namespace emu = troupe::emulators;
   emu::SickEmulator::Config scanner;
   emu::EmulatorProgram p;
-  p.name = "troupe-emulate-sicklms200";
+  p.name = "troupe-emulate-sick";
   p.synopsis = "[--startup-ms N]";
   p.about =
       "Emulates a SICK LMS200 laser scanner on a new pseudo-terminal and prints\n"
@@ -19,8 +19,8 @@ int main(int argc, char** argv) {
       "waits for a driver to configure it.";
   p.flags_help = "  --startup-ms N   from a reset request to the power-on message (default 2000)\n";
   p.examples =
-      "  troupe-emulate-sicklms200 --link laser-port\n"
-      "  troupe emulate-sicklms200 --link laser-port --tear 0.05 --seed 3   # torn telegrams\n";
+      "  troupe-emulate-sick --link laser-port\n"
+      "  troupe emulate-sick --link laser-port --tear 0.05 --seed 3   # torn telegrams\n";
   p.bauds = {9600, 19200, 38400, 500000};
   p.flags = {{"--startup-ms", [&](const char* v) {
                 char* end = nullptr;
