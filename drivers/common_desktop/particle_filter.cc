@@ -142,7 +142,7 @@ double ParticleFilter::weigh(const ScanView& scan) {
     return i - int64_t(g < double(i));
   };
   for (Particle& p : particles_) {
-    Pose2 q = between(origin, p.pose);
+    Pose2 q = relative(origin, p.pose);
     double qx = q.x * inv_res, qy = q.y * inv_res;
     if (!(std::fabs(qx) < 1e12 && std::fabs(qy) < 1e12)) {  // far off the map: no lookups to overflow
       p.weight = params_.beam_exponent * double(field_.log_likelihood_far()) * double(beams_.size()) +

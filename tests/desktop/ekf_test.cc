@@ -196,7 +196,7 @@ TEST(Ekf, LandmarkSightingsLocateAStandingRobot) {
   Eigen::Matrix3d cov = Eigen::Vector3d(s * s, s * s, s * s).asDiagonal();
   for (int k = 1; k <= 60; ++k) {
     const Pose2& m = marks[k % 3];
-    Pose2 seen = between(truth, m);
+    Pose2 seen = relative(truth, m);
     seen = {seen.x + gaussian(rng, s), seen.y + gaussian(rng, s), wrap_angle(seen.a + gaussian(rng, s))};
     EXPECT_NE(f.add_landmark(0.01 * k, m, seen, cov), PoseEkf::Outcome::Invalid);
   }

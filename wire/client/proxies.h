@@ -16,13 +16,12 @@
 #include <vector>
 
 #include "wire/client/proxy.h"
+#include "wire/geometry.h"
 
 namespace troupe::client {
 
 /// A pose or velocity in the plane: m, m, rad (or per second).
-struct Pose2 {
-  float x = 0, y = 0, a = 0;
-};
+using Pose2 = geometry::Pose2;
 
 class Position2dProxy final : public Proxy {
  public:
