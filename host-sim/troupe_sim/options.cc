@@ -31,7 +31,9 @@ const char* sim_usage() {
          "  --snapshot FILE.png     picture of the world at the end\n"
          "  --snapshot-every S      ... and every S simulated seconds\n"
          "  --log FILE.csv          trajectory log: time,robot,x,y,a every step\n"
-         "  --ctrl-path DIR         where controllers (ctrl \"name\") are looked for\n"
+         "  --plugin-path DIR       look for plugins (controllers: ctrl \"name\") in DIR first;\n"
+         "                          then ../lib/troupe beside troupe-sim, $TROUPE_PLUGIN_PATH,\n"
+         "                          the world's folder\n"
          "  --ignore-missing-ctrl   load anyway; robots whose controller is missing stay idle\n"
          "  --no-ctrl               run no controllers: every robot waits for clients\n"
          "  --profile               print the time spent in each phase of the step at the end\n"
@@ -149,9 +151,9 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
     } else if (a == "--log") {
       if (!value(t)) return false;
       out.log = t;
-    } else if (a == "--ctrl-path") {
+    } else if (a == "--plugin-path") {
       if (!value(t)) return false;
-      out.ctrl_path.push_back(t);
+      out.plugin_path.push_back(t);
     } else if (a == "--emulate") {
       if (!value(t)) return false;
       out.emulate.push_back(t);

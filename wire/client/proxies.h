@@ -130,10 +130,13 @@ class FiducialProxy final : public Proxy {
   explicit FiducialProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
   /// Detections in the sensor frame: id, x (m), y (m), yaw (rad).
   const std::vector<wire::Fiducial>& fiducials() const { return fiducials_; }
+  /// What detection i is (ball, goal, ...; Generic when the sender did not say).
+  wire::FiducialKind kind(size_t i) const { return i < kinds_.size() ? kinds_[i] : wire::FiducialKind::Generic; }
 
  private:
   void update(const wire::Message& msg) override;
   std::vector<wire::Fiducial> fiducials_;
+  std::vector<wire::FiducialKind> kinds_;
 };
 
 class ActuatorProxy final : public Proxy {

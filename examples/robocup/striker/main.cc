@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "troupe-robocup-striker: --team is blue or yellow, not '%s'\n", team.c_str());
         return 2;
       }
-      options.team = team == "blue" ? client::Team::Blue : client::Team::Yellow;
+      options.team = team == "blue" ? examples::Team::Blue : examples::Team::Yellow;
     } else if (arg == "--seconds" && has_value) {
       seconds = std::atof(argv[++i]);
     } else if (arg == "--pull") {
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("driving %s (team %s) on %s; simulated time %.2f s\n", options.robot.c_str(),
-              options.team == client::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
+              options.team == examples::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
               double(sim.sim_time_us()) * 1e-6);
   if (lockstep && !sim.pause()) {
     std::fprintf(stderr, "troupe-robocup-striker: cannot pause the simulator: %s\n", client.error().c_str());
