@@ -11,7 +11,9 @@ const char* sim_usage() {
          "\n"
          "Simulates the Stage world file WORLD and serves every robot's devices over the\n"
          "wire: robot i's devices are ROBOT/INTERFACE:INDEX (r0/position2d:0, r0/ranger:1)\n"
-         "on one port, and simulation:0 pauses, steps, teleports and resets.\n"
+         "on one port, and simulation:0 pauses, steps, teleports and resets. A RoboCup\n"
+         "match written as a Stage world (robocup_field, ball, referee, robocup_robot)\n"
+         "runs on rigid-body physics, served the same way, with players and a score.\n"
          "\n"
          "options:\n"
          "  --headless              no window (always; the viewer connects over the wire)\n"
@@ -51,7 +53,8 @@ const char* sim_usage() {
          "examples:\n"
          "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
          "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n"
-         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n";
+         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n"
+         "  troupe-sim examples/robocup/match.world          # a RoboCup match, served and drawn\n";
 }
 
 namespace {

@@ -46,8 +46,7 @@ const char kHelp[] =
     "\n"
     "examples:\n"
     "  troupe-robocup examples/robocup/match.world --seconds 120 --seed 4\n"
-    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n"
-    "  troupe sim examples/robocup/match.world                    # served; then: troupe-robocup-striker localhost\n";
+    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n";
 
 /// The short usage to stderr for a mistake; the whole help to stdout when asked.
 void usage(bool asked = false) {
