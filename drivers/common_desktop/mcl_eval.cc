@@ -78,7 +78,7 @@ bool evaluate_log(const CarmenLog& log, const EvalOptions& opt, EvalResult& out,
     if (s.kind == ReplaySample::Kind::Scan && s.scan == opt.kidnap_scan && !kidnapped && have_odom) {
       kidnapped = true;
       kidnap_time_s = s.time_s;
-      jump_frame = compose(compose(odom, opt.kidnap_jump), between(odom, Pose2{}));
+      jump_frame = compose(compose(odom, opt.kidnap_jump), relative(odom, Pose2{}));
       odom = compose(jump_frame, odom);  // this scan's odometry arrived before it
     }
     if (s.kind == ReplaySample::Kind::Odometry) {

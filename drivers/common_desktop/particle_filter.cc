@@ -132,7 +132,7 @@ double ParticleFilter::beams_log_likelihood(const Pose2& pose) const {
   // The hot loop: the pose is taken into the grid's frame in cell units
   // once, so a beam costs two multiply-adds, a floor and a load.
   const double inv_res = 1.0 / map_->resolution();
-  Pose2 q = between(map_->origin(), pose);
+  Pose2 q = relative(map_->origin(), pose);
   double qx = q.x * inv_res, qy = q.y * inv_res;
   if (!(std::fabs(qx) < 1e12 && std::fabs(qy) < 1e12)) {  // far off the map: no lookups to overflow
     return double(field_.log_likelihood_far()) * double(beams_.size());

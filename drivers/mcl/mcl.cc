@@ -350,8 +350,11 @@ void Mcl::on_landmarks(const wire::Message& data) {
   const wire::FiducialList* list = data.body_as_FiducialList();
   if (list == nullptr) return;
   seen_.clear();
-  if (list->fiducials()) {
-    for (const wire::Fiducial* f : *list->fiducials()) seen_.push_back({f->id(), f->x(), f->y()});
+  const auto* kinds = list->kinds();
+  for (flatbuffers::uoffset_t i = 0; list->fiducials() && i < list->fiducials()->size(); ++i) {
+    const wire::Fiducial* f = list->fiducials()->Get(i);
+    const auto kind = kinds && i < kinds->size() ? wire::FiducialKind(kinds->Get(i)) : wire::FiducialKind::Generic;
+    seen_.push_back({{kind, f->id()}, f->x(), f->y()});
   }
   pending_landmarks_ = true;
   measured(wire::time_us(*data.header()));

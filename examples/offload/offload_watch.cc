@@ -14,16 +14,14 @@
 #include "wire/address.h"
 #include "wire/cli/args.h"
 #include "wire/client/proxies.h"
+#include "wire/geometry.h"
 
 using namespace troupe;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double wrap(double a) {
-  return std::remainder(a, 2 * kPi);
-}
+using geometry::kPi;
+using geometry::wrap_angle;
 
 // HOST[:PORT], with a port of its own when none is given.
 bool parse_host(const std::string& text, uint16_t default_port, wire::HostPort& out, std::string& error) {
@@ -95,7 +93,7 @@ int main(int argc, char** argv) {
     double x = e.x + v.x * std::cos(a) * dt, y = e.y + v.x * std::sin(a) * dt;
     std::printf("%10.1f %9.3f,%8.3f,%8.3f %9.3f,%8.3f,%8.3f %9.3f %8.2f %5zu\n", t * 1e-6, x, y, a, truth.x,
                 truth.y, truth.a, std::hypot(x - truth.x, y - truth.y),
-                std::fabs(wrap(a - truth.a)) * 180 / kPi, localize.hypotheses().size());
+                std::fabs(wrap_angle(a - truth.a)) * 180 / kPi, localize.hypotheses().size());
     std::fflush(stdout);
     if (seconds > 0 && double(t - start_us) * 1e-6 >= seconds) return 0;
   }

@@ -35,7 +35,7 @@ struct SimOptions {
   std::string snapshot;       // PNG written at the end (and every snapshot_every s)
   double snapshot_every = 0;  // s of simulated time; 0: only at the end
   std::string log;            // trajectory CSV
-  std::vector<std::string> ctrl_path;
+  std::vector<std::string> plugin_path;
   bool ignore_missing_ctrl = false;
   /// Run no in-process controllers (the robots are driven over the wire).
   bool no_ctrl = false;

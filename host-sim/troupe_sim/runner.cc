@@ -44,20 +44,8 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   if (!world_) return false;
 
   ControllerHost::Options copts;
-  copts.search_path = options.ctrl_path;
-  if (const char* env = std::getenv("TROUPE_CTRL_PATH")) {
-    std::string s = env;
-    for (size_t at = 0; at <= s.size();) {
-      size_t colon = s.find(':', at);
-      if (colon == std::string::npos) colon = s.size();
-      if (colon > at) copts.search_path.push_back(s.substr(at, colon - at));
-      at = colon + 1;
-    }
-  }
-  copts.search_path.push_back(std::filesystem::path(options.world).parent_path().string());
-#ifdef TROUPE_CONTROLLER_DIR
-  copts.search_path.push_back(TROUPE_CONTROLLER_DIR);
-#endif
+  copts.search_path =
+      plugin::search_path(options.plugin_path, std::filesystem::path(options.world).parent_path().string());
   copts.ignore_missing = options.ignore_missing_ctrl;
   if (!options.no_ctrl && !controllers_.load(*world_, copts, diags)) return false;
 
@@ -189,21 +177,12 @@ void Runner::reset() {
   world_->reset();
   world_->refresh_sensors();
   for (SimServer* s : servers_) s->publish();
-  anchor_speed_ = -1;  // re-anchor the real-time pacing
   next_snapshot_ = options_.snapshot_every;
 }
 
 void Runner::progress(bool final) {
-  // The real-time factor over the last second of wall time.
   const uint64_t now = monotonic_us();
-  if (rtf_wall_us_ == 0) {
-    rtf_wall_us_ = now;
-    rtf_sim_ = world_->time();
-  } else if (now - rtf_wall_us_ >= 1000000 || final) {
-    control_.real_time_factor = (world_->time() - rtf_sim_) / ((now - rtf_wall_us_) * 1e-6);
-    rtf_wall_us_ = now;
-    rtf_sim_ = world_->time();
-  }
+  if (final) rate_.update(control_, world_->time(), now, true);
   // A progress line for fast runs on a terminal.
   if (control_.speed != 0 || !isatty(STDERR_FILENO)) return;
   if (!final && now - progress_wall_us_ < 250000) return;
@@ -219,37 +198,12 @@ void Runner::progress(bool final) {
 }
 
 int Runner::run() {
-  const int64_t kMaxWaitUs = 50000;  // answer the network at least this often
-  while (!stop_) {
-    if (quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_) break;
-    if (control_.paused) {
-      anchor_paused_ = true;
-      serve(kMaxWaitUs);
-      continue;
-    }
-    if (control_.speed > 0) {
-      // Real time (or a multiple): step when the wall clock says so.
-      const uint64_t now = monotonic_us();
-      if (anchor_paused_ || anchor_speed_ != control_.speed) {
-        anchor_wall_us_ = now;
-        anchor_sim_ = world_->time();
-        anchor_speed_ = control_.speed;
-        anchor_paused_ = false;
-      }
-      const double due = double(anchor_wall_us_) + (world_->time() - anchor_sim_) / control_.speed * 1e6;
-      if (double(now) < due) {
-        serve(std::min<int64_t>(kMaxWaitUs, int64_t(due - double(now)) + 1));
-        continue;
-      }
-      serve(0);
-    } else {
-      anchor_paused_ = true;
-      serve(0);
-    }
-    if (stop_ || control_.paused) continue;
-    step(1);
-    progress(false);
-  }
+  LoopParts parts;
+  parts.time_s = [this] { return world_->time(); };
+  parts.serve = [this](int64_t wait_us) { serve(wait_us); };
+  parts.step = [this] { step(1); };
+  parts.done = [this] { return quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_; };
+  run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
   progress(true);
   if (!options_.snapshot.empty()) {
     std::string err;

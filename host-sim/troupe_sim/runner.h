@@ -11,6 +11,7 @@
 #include "host-sim/sim/controller_host.h"
 #include "host-sim/sim/trajectory_log.h"
 #include "host-sim/sim/world.h"
+#include "host-sim/sim_control/pacing.h"
 #include "host-sim/troupe_sim/emulation.h"
 #include "host-sim/troupe_sim/emulation_tcp.h"
 #include "host-sim/troupe_sim/options.h"
@@ -72,15 +73,7 @@ class Runner {
   double quit_time_ = 0;
   double next_snapshot_ = 0;
   std::atomic<bool> stop_{false};
-  // Real-time pacing: simulated time `anchor_sim_` was reached at wall time
-  // `anchor_wall_us_` (re-anchored on resume and speed changes).
-  uint64_t anchor_wall_us_ = 0;
-  double anchor_sim_ = 0;
-  double anchor_speed_ = -1;
-  bool anchor_paused_ = true;
-  // Real-time factor over the last second or so.
-  uint64_t rtf_wall_us_ = 0;
-  double rtf_sim_ = 0;
+  RateMeter rate_;
   uint64_t progress_wall_us_ = 0;
   bool progress_shown_ = false;
 };

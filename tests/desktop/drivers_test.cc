@@ -328,7 +328,7 @@ TEST(DesktopDrivers, MclIgnoresTheOdometryJumpOfARestartedRobot) {
     t += 5'000'000;  // rebooting
     const Pose2 stood = route[k - 1];
     for (size_t i = k - 1; i < route.size(); ++i, t += 200'000) {
-      Pose2 restarted = desktop::compose(c.restart_at, desktop::between(stood, route[i]));
+      Pose2 restarted = desktop::compose(c.restart_at, desktop::relative(stood, route[i]));
       worst = std::max(worst, feed(route[i], restarted));
     }
     EXPECT_LT(worst, 0.25) << "the estimate strayed " << worst << " m from the robot";

@@ -120,7 +120,7 @@ TEST(Mcl, RecoversFromKidnapping) {
   std::vector<Pose2> truth(route.begin(), route.begin() + long(k));
   truth.insert(truth.end(), route.begin() + long(j), route.end());
   std::vector<Pose2> moved(route.begin(), route.begin() + long(k));
-  Pose2 carry = compose(route[k - 1], between(route[j], Pose2{}));  // maps route[j] onto route[k-1]
+  Pose2 carry = compose(route[k - 1], relative(route[j], Pose2{}));  // maps route[j] onto route[k-1]
   for (size_t i = j; i < route.size(); ++i) moved.push_back(compose(carry, route[i]));
   ASSERT_LT(distance(moved[k], moved[k - 1]), 1e-9);
   ASSERT_GT(distance(truth[k], truth[k - 1]), 2.0);

@@ -126,9 +126,7 @@ class Offload : public ::testing::Test {
                                      "--seed",
                                      "1",
                                      "--log",
-                                     dir_ + "/" + truth_log,
-                                     "--ctrl-path",
-                                     kBin + "/controllers"};
+                                     dir_ + "/" + truth_log};
     if (paused) argv.push_back("--paused");
     std::string error;
     ASSERT_TRUE(sim_.start_logged(argv, dir_ + "/sim.log", error)) << error;

@@ -284,6 +284,39 @@ async function blobsAndRestartPage(browser) {
   sim.child.kill('SIGTERM');
 }
 
+// A RoboCup match: the field, the ball as a disc, the score and a kick.
+async function matchPage(browser) {
+  const troupe = join(args.bin, 'troupe');
+  const sim = await start(join(args.bin, 'troupe-sim'),
+                          [join(args.source, 'examples/robocup/match.world'), '--port', '0', '--view', '0', '--paused'],
+                          { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ });
+  const addr = `127.0.0.1:${sim.port}`;
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('pageerror', (e) => check(false, 'match: no error on the page', e.message));
+  await page.goto(sim.url);
+  await waitFor(page, () => window.troupeViewer?.ready);
+  const names = await page.evaluate(() => troupeViewer.robots());
+  check(names.length === 9 && names[8] === 'ball', 'match: 8 robots and the ball', names.join(' '));
+  const field = await page.evaluate(() => troupeViewer.field());
+  check(field && field.length === 9 && field.width === 5, 'match: the field comes with the models', JSON.stringify(field));
+  await waitFor(page, () => troupeViewer.colorAt(2, -2) === '#3f8f3f');
+  check(true, 'match: the grass is drawn');
+  // A goal for blue: the ball behind the yellow goal line, one step.
+  await run(troupe, ['req', addr, 'simulation:0', 'setpose', 'ball', '4.8', '0', '0']);
+  await run(troupe, ['req', addr, 'simulation:0', 'step', '2']);
+  await waitFor(page, () => troupeViewer.game()?.blue === 1);
+  check(true, 'match: the score shows the goal');
+  // A kick: yellow3's kicker goes out for a quarter of a second.
+  await run(troupe, ['cmd', addr, 'yellow3/actuator:0', 'kick']);
+  await run(troupe, ['req', addr, 'simulation:0', 'step', '3']);
+  await waitFor(page, () => troupeViewer.kicking().includes('yellow3'));
+  check(true, 'match: the kick is shown');
+  await page.screenshot({ path: join(args.out, 'viewer-match.png') });
+  console.log(`screenshot: ${join(args.out, 'viewer-match.png')}`);
+  await page.close();
+  sim.child.kill('SIGTERM');
+}
+
 async function nodePage(browser, config, name, drive) {
   const node = await start(args.node, [config, '--port', '0'], { port: /serving \d+ devices on [^\n]*:(\d+)\n/ });
   const view = await start(join(args.bin, 'troupe-view'), [`127.0.0.1:${node.port}`, '--http-port', '0'],
@@ -315,6 +348,7 @@ const scratch = mkdtempSync(join(tmpdir(), 'troupe-viewer-'));
 try {
   await simulatorPage(browser);
   await blobsAndRestartPage(browser);
+  await matchPage(browser);
 
   // A kinematic base, driven in a circle over the wire.
   const troupe = join(args.bin, 'troupe');

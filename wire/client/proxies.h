@@ -16,13 +16,12 @@
 #include <vector>
 
 #include "wire/client/proxy.h"
+#include "wire/geometry.h"
 
 namespace troupe::client {
 
 /// A pose or velocity in the plane: m, m, rad (or per second).
-struct Pose2 {
-  float x = 0, y = 0, a = 0;
-};
+using Pose2 = geometry::Pose2;
 
 class Position2dProxy final : public Proxy {
  public:
@@ -131,10 +130,13 @@ class FiducialProxy final : public Proxy {
   explicit FiducialProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
   /// Detections in the sensor frame: id, x (m), y (m), yaw (rad).
   const std::vector<wire::Fiducial>& fiducials() const { return fiducials_; }
+  /// What detection i is (ball, goal, ...; Generic when the sender did not say).
+  wire::FiducialKind kind(size_t i) const { return i < kinds_.size() ? kinds_[i] : wire::FiducialKind::Generic; }
 
  private:
   void update(const wire::Message& msg) override;
   std::vector<wire::Fiducial> fiducials_;
+  std::vector<wire::FiducialKind> kinds_;
 };
 
 class ActuatorProxy final : public Proxy {

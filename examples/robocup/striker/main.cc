@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
       "troupe robocup-striker",
       {"troupe robocup-striker [HOST[:PORT]] [--robot NAME] [--team blue|yellow] [--seconds S] [--pull]\n"
        "                              [--lockstep]",
-       "Drives one robot of a served RoboCup match (troupe robocup WORLD --serve) as\n"
+       "Drives one robot of a RoboCup match served by troupe-sim (troupe sim WORLD) as\n"
        "a striker, printing what it does once a second, and a summary at the end.\n",
        {"troupe robocup-striker localhost", "troupe-robocup-striker localhost --robot blue2 --team blue --lockstep"}});
   app->add_option("HOST", node, "HOST[:PORT] of the match (default 127.0.0.1)");
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   app->add_flag("--pull", pull, "ask for each update instead of having data pushed");
   app->add_flag("--lockstep", lockstep, "pause the simulator and step it one cycle per decision (runs repeat)");
   if (int rc = cli::parse(*app, argc, argv); rc >= 0) return rc;
-  options.team = team == "blue" ? client::Team::Blue : client::Team::Yellow;
+  options.team = team == "blue" ? examples::Team::Blue : examples::Team::Yellow;
   wire::HostPort host;
   std::string error;
   if (!wire::parse_host(node, host, error)) return cli::usage_error(*app, error);
@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("driving %s (team %s) on %s; simulated time %.2f s\n", options.robot.c_str(),
-              options.team == client::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
+              options.team == examples::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
               double(sim.sim_time_us()) * 1e-6);
   if (lockstep && !sim.pause()) {
     std::fprintf(stderr, "troupe-robocup-striker: cannot pause the simulator: %s\n", client.error().c_str());

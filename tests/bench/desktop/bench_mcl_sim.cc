@@ -98,7 +98,7 @@ Run run(const Scene& scene, const desktop::OccupancyGrid& map, uint64_t seed, bo
   std::unique_ptr<sim::World> w = sim::World::load(scene.world_path, seed, diags);
   sim::ControllerHost host;
   sim::ControllerHost::Options copt;
-  copt.search_path = {std::string(TROUPE_BINARY_DIR) + "/controllers"};
+  copt.search_path = {std::string(TROUPE_BINARY_DIR) + "/lib/troupe"};
   if (!w || !host.load(*w, copt, diags)) {
     std::fprintf(stderr, "%s: cannot load:\n%s\n", scene.world_path.c_str(), diags.str().c_str());
     std::exit(1);

@@ -4,9 +4,9 @@
 import * as W from 'troupe-wire';
 import { Connection, DeviceEntry } from './connection';
 import { blobInWorld, draw, drawBlobs, View } from './draw';
-import { colorOf, fmt, Pose, Robot, Scene } from './scene';
+import { colorOf, Field, fmt, Pose, Robot, Scene } from './scene';
 
-const kSimulation = 11, kMap = 10, kPosition2d = 1, kRanger = 2;
+const kSimulation = 11, kMap = 10, kPosition2d = 1, kRanger = 2, kActuator = 7;
 /// A press that moves less than this is a click, px.
 const kClickSlop = 4;
 
@@ -74,9 +74,15 @@ async function start(): Promise<void> {
     for (let i = 0; i < list.modelsLength(); ++i) {
       const m = list.models(i)!;
       addRobot({ name: m.name() || `robot ${i}`, number: m.robot(), pose: { x: 0, y: 0, a: 0 },
-                 size: [m.sizeX(), m.sizeY()], color: colorOf(m.color()), trail: [] });
+                 size: [m.sizeX(), m.sizeY()], color: colorOf(m.color()), trail: [],
+                 disc: m.shape() === W.SimShape.Disc });
     }
+    scene.field = fieldOf(list.field());
     await conn.open(simDevice.addr, W.Access.All);
+    // A match: every kicker, so kicks show whichever robot is selected.
+    for (const d of scene.devices) {
+      if (scene.field && d.addr.iface === kActuator) await conn.open(d.addr, W.Access.Read).catch(() => {});
+    }
     const clock = await conn.request(simDevice.addr, W.SimulationReqSub.GetClock);
     scene.onData(clock, simDevice.addr);
   } else {
@@ -112,8 +118,19 @@ function addRobot(r: Robot): void {
   scene.byNumber.set(r.number, r);
 }
 
+function fieldOf(f: W.SimField | null): Field | null {
+  if (!f) return null;
+  return { length: f.length(), width: f.width(), goalWidth: f.goalWidth(), goalDepth: f.goalDepth(),
+           border: f.border(), centerCircle: f.centerCircleRadius(), penaltyDepth: f.penaltyDepth(),
+           penaltyWidth: f.penaltyWidth(), cornerPostRadius: f.cornerPostRadius(),
+           cornerPostOffset: f.cornerPostOffset() };
+}
+
 function fitAll(): void {
-  if (scene.map) {
+  if (scene.field) {
+    const f = scene.field, x = f.length / 2 + f.border, y = f.width / 2 + f.border;
+    view.fit(-x, -y, x, y);
+  } else if (scene.map) {
     const m = scene.map;
     view.fit(m.origin.x, m.origin.y, m.origin.x + m.width * m.resolution, m.origin.y + m.height * m.resolution);
   } else if (scene.robots.length) {
@@ -342,6 +359,16 @@ requestAnimationFrame(frame);
   get teleports() { return teleports; },
   get selected() { return state.selected?.name ?? null; },
   robots: () => scene.robots.map((r) => r.name),
+  field: () => scene.field,
+  game: () => scene.game,
+  kicking: () => scene.robots.filter((r) => scene.kicks.has(r.number)).map((r) => r.name),
+  /// The canvas colour at a world point, '#rrggbb'.
+  colorAt: (x: number, y: number) => {
+    const [sx, sy] = view.toScreen(x, y);
+    const dpr = window.devicePixelRatio || 1;
+    const d = canvas.getContext('2d')!.getImageData(Math.round(sx * dpr), Math.round(sy * dpr), 1, 1).data;
+    return '#' + [d[0], d[1], d[2]].map((v) => v.toString(16).padStart(2, '0')).join('');
+  },
   devices: () => scene.devices.map((d) => d.text),
   pose: (name: string) => { const r = scene.robot(name); return r ? { ...r.pose } : null; },
   trailLength: (name: string) => scene.robot(name)?.trail.length ?? 0,

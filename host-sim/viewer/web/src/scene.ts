@@ -22,6 +22,30 @@ export interface Robot {
   /// On a node: the position2d index whose odometry places the robot (a
   /// node may serve several estimates of one robot).
   poseIndex?: number;
+  /// Drawn as a disc of diameter size[0] (a ball, a puck), not a box.
+  disc?: boolean;
+}
+
+/// A RoboCup field (simulation:0's SimField), m; goals on the x axis.
+export interface Field {
+  length: number;
+  width: number;
+  goalWidth: number;
+  goalDepth: number;
+  border: number;
+  centerCircle: number;
+  penaltyDepth: number;
+  penaltyWidth: number;
+  cornerPostRadius: number;
+  cornerPostOffset: number;
+}
+
+/// A match's state (simulation:0's SimGame).
+export interface Game {
+  blue: number;
+  yellow: number;
+  phase: W.GamePhase;
+  lastEvent: string;
 }
 
 /// A ranger's mounting (robot frame) and its latest scan's beam ends.
@@ -68,6 +92,11 @@ const kTrailStep = 0.02;
 /// Largest map tile asked for, cells a side (the map interface's limit).
 const kTile = 512;
 
+/** A detection as the panel lists it: its kind, unless generic, and its id. */
+export function fiducialLabel(kind: W.FiducialKind, id: number): string {
+  return kind === W.FiducialKind.Generic ? `#${id}` : `${W.FiducialKind[kind].toLowerCase()} ${id}`;
+}
+
 export function colorOf(rgb: number): string {
   return '#' + (rgb & 0xffffff).toString(16).padStart(6, '0');
 }
@@ -93,7 +122,11 @@ export class Scene {
   values = new Map<string, string>();
   rangers = new Map<string, RangerView>();
   blobs = new Map<string, BlobImage>();
-  fiducials = new Map<string, { id: number; x: number; y: number; a: number }[]>();
+  fiducials = new Map<string, { id: number; x: number; y: number; a: number; kind: W.FiducialKind }[]>();
+  field: Field | null = null;
+  game: Game | null = null;
+  /// Robot numbers whose kicker (actuator) is out, and when it fired, s.
+  kicks = new Map<number, number>();
   simTime = 0; // s
   steps = 0;
   paused = false;
@@ -246,10 +279,26 @@ export class Scene {
         const list = [];
         for (let i = 0; i < s.fiducialsLength(); ++i) {
           const f = s.fiducials(i)!;
-          list.push({ id: f.id(), x: f.x(), y: f.y(), a: f.yaw() });
+          const kind = i < s.kindsLength() ? s.kinds(i)! : W.FiducialKind.Generic;
+          list.push({ id: f.id(), x: f.x(), y: f.y(), a: f.yaw(), kind });
         }
         this.fiducials.set(key, list);
-        this.values.set(key, `${list.length} fiducials` + list.map((f) => ` #${f.id}`).join(''));
+        this.values.set(key, `${list.length} fiducials` + list.map((f) => ` ${fiducialLabel(f.kind, f.id)}`).join(''));
+        return;
+      }
+      case W.Body.SimGame: {
+        const s = msg.body(new W.SimGame()) as W.SimGame;
+        this.game = { blue: s.scoreBlue(), yellow: s.scoreYellow(), phase: s.phase(), lastEvent: s.lastEvent() || '' };
+        return;
+      }
+      case W.Body.ActuatorState: {
+        const s = msg.body(new W.ActuatorState()) as W.ActuatorState;
+        if (s.mode() === W.ActuatorMode.Kicking) {
+          if (!this.kicks.has(addr.robot)) this.kicks.set(addr.robot, this.simTime);
+        } else {
+          this.kicks.delete(addr.robot);
+        }
+        this.values.set(key, W.ActuatorMode[s.mode()]);
         return;
       }
       case W.Body.PowerState: {
