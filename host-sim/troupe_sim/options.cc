@@ -59,10 +59,8 @@ const char* sim_usage() {
          "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
          "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n"
          "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n"
-         "  troupe-sim examples/worlds/sitl_room.world --p2os-tcp      # ARIA: localhost:8101
-"
-         "  troupe-sim examples/robocup/match.world          # a RoboCup match, served and drawn
-";
+         "  troupe-sim examples/worlds/sitl_room.world --p2os-tcp      # ARIA: localhost:8101\n"
+         "  troupe-sim examples/robocup/match.world          # a RoboCup match, served and drawn\n";
 }
 
 namespace {
