@@ -63,7 +63,9 @@ void probe_every_value(RawConnection& raw, const std::function<void(const std::s
         for (float v : kEdges) {
           Answer a = exchange(raw, with_float(s.frame, site, v), ++seq);
           ASSERT_TRUE(a.ok) << what << " = " << v;
-          if (a.replied && a.code == ErrorCode::BadValue) EXPECT_NE(a.text.find(site.field), std::string::npos);
+          if (a.replied && a.code == ErrorCode::BadValue) {
+            EXPECT_NE(a.text.find(site.field), std::string::npos) << what << ": " << a.text;
+          }
           after_each(what);
         }
       } else {
