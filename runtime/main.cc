@@ -1,8 +1,10 @@
 // troupe-node: serves the devices of one robot (or desktop) over the wire.
 //
-//   troupe-node CONFIG [--port N] [--listen ADDR] [--log-level LEVEL]
+//   troupe-node CONFIG [--port N] [--listen ADDR] [--log-level LEVEL] [--max-clients N]
+//               [--max-clients-per-address N] [--hello-timeout-ms MS] [--idle-timeout-ms MS]
 #include <signal.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,13 +20,32 @@ namespace {
 
 const char kUsage[] =
     "usage: troupe-node CONFIG [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
+    "                   [--max-clients N] [--max-clients-per-address N]\n"
+    "                   [--hello-timeout-ms MS] [--idle-timeout-ms MS]\n"
     "\n"
     "Serves the devices listed in the node config CONFIG (JSON, or the binary\n"
     "flatc compiles from it) to clients over TCP. Options override the config.\n"
     "\n"
+    "  --max-clients N               connections served at once (default 64)\n"
+    "  --max-clients-per-address N   of them from one IP address (default 0: no limit)\n"
+    "  --hello-timeout-ms MS         close a connection silent this long after connecting\n"
+    "                                (default 5000; 0: never)\n"
+    "  --idle-timeout-ms MS          close a connection that reads nothing and is silent\n"
+    "                                this long (default 60000; 0: never)\n"
+    "\n"
     "examples:\n"
     "  troupe-node examples/nodes/kinematic.json\n"
     "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0\n";
+
+// A numeric flag's value, min..max; false (with the reason printed) when it
+// is not one.
+bool flag_number(const char* flag, const char* text, unsigned long min, unsigned long max, unsigned long& out) {
+  char* end = nullptr;
+  out = strtoul(text, &end, 10);
+  if (*text >= '0' && *text <= '9' && *end == '\0' && out >= min && out <= max) return true;
+  fprintf(stderr, "troupe-node: bad %s '%s' (%lu to %lu)\n", flag, text, min, max);
+  return false;
+}
 
 }  // namespace
 
@@ -35,7 +56,17 @@ int main(int argc, char** argv) {
   const char* port = nullptr;
   const char* listen = nullptr;
   const char* level = nullptr;
-  const troupe::Flag flags[] = {{"--port", &port}, {"--listen", &listen}, {"--log-level", &level}};
+  const char* max_clients = nullptr;
+  const char* per_address = nullptr;
+  const char* hello_timeout = nullptr;
+  const char* idle_timeout = nullptr;
+  const troupe::Flag flags[] = {{"--port", &port},
+                                {"--listen", &listen},
+                                {"--log-level", &level},
+                                {"--max-clients", &max_clients},
+                                {"--max-clients-per-address", &per_address},
+                                {"--hello-timeout-ms", &hello_timeout},
+                                {"--idle-timeout-ms", &idle_timeout}};
   const troupe::CommandLine line{"troupe-node", kUsage, flags, std::size(flags), &config_path};
   if (int rc = troupe::parse_command_line(line, argc, argv); rc >= 0) return rc;
 
@@ -65,6 +96,23 @@ int main(int argc, char** argv) {
     options.port = uint16_t(p);
   }
   if (listen != nullptr) options.listen = listen;
+  unsigned long n = 0;
+  if (max_clients != nullptr) {
+    if (!flag_number("--max-clients", max_clients, 1, 65535, n)) return 2;
+    options.max_clients = uint16_t(n);
+  }
+  if (per_address != nullptr) {
+    if (!flag_number("--max-clients-per-address", per_address, 0, 65535, n)) return 2;
+    options.max_clients_per_address = uint16_t(n);
+  }
+  if (hello_timeout != nullptr) {
+    if (!flag_number("--hello-timeout-ms", hello_timeout, 0, UINT32_MAX, n)) return 2;
+    options.hello_timeout_ms = uint32_t(n);
+  }
+  if (idle_timeout != nullptr) {
+    if (!flag_number("--idle-timeout-ms", idle_timeout, 0, UINT32_MAX, n)) return 2;
+    options.idle_timeout_ms = uint32_t(n);
+  }
 
   troupe::Node node(options);
   if (!troupe::build_node(node, cfg, error)) {

@@ -7,6 +7,7 @@
 #include "runtime/log.h"
 #include "runtime/server.h"
 #include "wire/address.h"
+#include "wire/check.h"
 
 namespace troupe {
 
@@ -177,11 +178,7 @@ void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint
     // A newer peer's body: refuse politely, keep the connection.
     char text[48];
     snprintf(text, sizeof text, "unknown body type %u", unsigned(body));
-    if (kind == Kind::Request || kind == Kind::Command) {
-      return reply_status(client, h, Kind::Nack, ErrorCode::Unsupported, text);
-    }
-    log_debug("client %u: ignoring %s", client, text);
-    return;
+    return reply_status(client, h, Kind::Nack, ErrorCode::Unsupported, text);
   }
   if (!wire::body_fits(kind, h.addr().iface(), body)) {
     char text[128];
@@ -189,7 +186,25 @@ void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint
              std::string(wire::kind_name(kind)).c_str(),
              std::string(wire::interface_name(h.addr().iface())).c_str(), wire::EnumNameBody(body));
     log_warn("client %u: %s", client, text);
-    return server_->close_with_error(client, ErrorCode::BadBody, text);
+    return server_->close_with_error(client, ErrorCode::BadBody, text, &h);
+  }
+  if (kind == Kind::Data || kind == Kind::Ack || kind == Kind::Nack || kind == Kind::Error) {
+    char text[64];
+    snprintf(text, sizeof text, "clients do not send %s messages", std::string(wire::kind_name(kind)).c_str());
+    return server_->close_with_error(client, ErrorCode::BadBody, text, &h);
+  }
+  // Everything a handler below reads is there and within its range: this is
+  // the one place that checks it (wire/check.h).
+  wire::Refusal why;
+  if (!wire::check_message(msg, why)) {
+    log_warn("client %u: %s %s refused: %s", client, std::string(wire::kind_name(kind)).c_str(),
+             wire::format_address(h.addr()).c_str(), why.text);
+    // A session message that cannot be read breaks the session; a device's
+    // message gets its answer, and the connection goes on.
+    if (kind == Kind::Hello || kind == Kind::TimeSync || kind == Kind::DeviceList) {
+      return server_->close_with_error(client, why.code, why.text, &h);
+    }
+    return reply_status(client, h, Kind::Nack, why.code, why.text);
   }
 
   // Anything answered is answered after the commands sent before it reached
@@ -198,18 +213,9 @@ void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint
   if (kind != Kind::Command && !pending_commands_.empty()) deliver_commands();
 
   switch (kind) {
+    case Kind::Hello: return server_->handle_hello(client, msg);
     case Kind::DeviceList: return send_device_list(client, msg);
     case Kind::TimeSync: return send_time_sync(client, msg);
-    case Kind::Hello: return;  // the server handles Hello
-    case Kind::Data:
-    case Kind::Ack:
-    case Kind::Nack:
-    case Kind::Error: {
-      char text[64];
-      snprintf(text, sizeof text, "clients do not send %s messages",
-               std::string(wire::kind_name(kind)).c_str());
-      return server_->close_with_error(client, ErrorCode::BadBody, text);
-    }
     default: break;
   }
 
@@ -434,17 +440,17 @@ void Node::send_device_list(uint32_t client, const wire::Message& msg) {
   auto body = wire::CreateDeviceList(b, b.CreateVector(infos));
   const wire::Header& h = *msg.header();
   server_->send_reliable(
-      client, reply_writer_.finish(wire::make_header(h.addr(), Kind::DeviceList, 0, h.seq(), now_us()),
+      client, reply_writer_.finish(wire::make_header(h.addr(), Kind::DeviceList, h.subtype(), h.seq(), now_us()),
                                    Body::DeviceList, body.Union()));
 }
 
 void Node::send_time_sync(uint32_t client, const wire::Message& msg) {
   uint64_t received = now_us();
   auto& b = reply_writer_.start();
-  const wire::TimeSync* ask = msg.body_as_TimeSync();
+  const wire::TimeSync* ask = msg.body_as_TimeSync();  // present: checked by route()
   auto body = wire::CreateTimeSync(b, ask->client_send_us(), received, now_us());
   const wire::Header& h = *msg.header();
-  server_->send_reliable(client, reply_writer_.finish(wire::make_header(h.addr(), Kind::TimeSync, 0, h.seq(), now_us()),
+  server_->send_reliable(client, reply_writer_.finish(wire::make_header(h.addr(), Kind::TimeSync, h.subtype(), h.seq(), now_us()),
                                                       Body::TimeSync, body.Union()));
 }
 

@@ -28,8 +28,18 @@ class Node final : public TimerHandler {
     std::string listen = "127.0.0.1";
     uint16_t port = wire::kDefaultPort;
     bool udp = true;
-    /// Clients served at once; one more is told so and closed.
+    /// Clients served at once. One more takes the slot of a connection that
+    /// has sent nothing yet (or is being closed), or is told so and closed.
     uint16_t max_clients = 64;
+    /// Clients served at once from one IP address (0: up to max_clients).
+    /// Keeps one host from taking every slot on a node serving a network.
+    uint16_t max_clients_per_address = 0;
+    /// A connection that has sent no valid frame (its Hello, normally) this
+    /// long after connecting is closed, ms (0: never).
+    uint32_t hello_timeout_ms = 5000;
+    /// A connection that reads no device and has sent nothing for this long
+    /// is closed, ms (0: never). Readers are exempt: data flows to them.
+    uint32_t idle_timeout_ms = 60000;
     /// Replies and other reliable frames queued for a client that is not
     /// reading, bytes. A client over it is disconnected. Data never queues:
     /// a slow reader gets the newest sample when it catches up.

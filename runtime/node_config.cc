@@ -92,6 +92,9 @@ Node::Options node_options(const config::NodeConfig& cfg) {
   o.limits.max_frame_bytes = cfg.max_frame_bytes();
   o.request_timeout_ms = cfg.request_timeout_ms();
   o.socket_send_bytes = cfg.socket_send_bytes();
+  o.max_clients_per_address = cfg.max_clients_per_address();
+  o.hello_timeout_ms = cfg.hello_timeout_ms();
+  o.idle_timeout_ms = cfg.idle_timeout_ms();
   return o;
 }
 

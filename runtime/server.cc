@@ -8,6 +8,7 @@
 #include <sys/epoll.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -33,6 +34,35 @@ constexpr size_t kPartialReserve = 4096;
 bool set_nonblocking(int fd) {
   int flags = fcntl(fd, F_GETFL, 0);
   return flags >= 0 && fcntl(fd, F_SETFL, flags | O_NONBLOCK) == 0;
+}
+
+// An Error frame answering `about` (its address, subtype and seq), or
+// nothing in particular.
+std::span<const uint8_t> error_frame(wire::MessageWriter& w, const wire::Header* about, wire::ErrorCode code,
+                                     std::string_view text, uint64_t now_us) {
+  auto& b = w.start();
+  auto body = wire::CreateError(b, code, b.CreateString(text.data(), text.size()));
+  wire::Header h = about ? wire::make_header(about->addr(), wire::Kind::Error, about->subtype(), about->seq(), now_us)
+                         : wire::make_header({}, wire::Kind::Error, 0, 0, now_us);
+  return w.finish(h, wire::Body::Error, body.Union());
+}
+
+// Says why on a socket about to be closed at once: it is fresh or idle, so
+// this small write fits.
+void send_error_now(int fd, wire::ErrorCode code, std::string_view text, uint64_t now_us) {
+  wire::MessageWriter w(256);
+  auto frame = error_frame(w, nullptr, code, text, now_us);
+  (void)!send(fd, frame.data(), frame.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+}
+
+bool same_host(const sockaddr_storage& a, const sockaddr_storage& b) {
+  if (a.ss_family != b.ss_family) return false;
+  if (a.ss_family == AF_INET6) {
+    return memcmp(&reinterpret_cast<const sockaddr_in6&>(a).sin6_addr,
+                  &reinterpret_cast<const sockaddr_in6&>(b).sin6_addr, sizeof(in6_addr)) == 0;
+  }
+  return reinterpret_cast<const sockaddr_in&>(a).sin_addr.s_addr ==
+         reinterpret_cast<const sockaddr_in&>(b).sin_addr.s_addr;
 }
 
 }  // namespace
@@ -93,6 +123,16 @@ bool Server::start(std::string& error) {
     return false;
   }
   node_.loop().watch(listen_fd_, EPOLLIN, this);
+  // Deadlines are checked a few times per the shortest one, at most once a
+  // second: a connection is closed at most a quarter late.
+  uint32_t shortest = 0;
+  for (uint32_t t : {opt.hello_timeout_ms, opt.idle_timeout_ms}) {
+    if (t != 0 && (shortest == 0 || t < shortest)) shortest = t;
+  }
+  if (shortest != 0) {
+    uint64_t period_us = std::clamp<uint64_t>(uint64_t(shortest) * 250, 10'000, 1'000'000);
+    sweep_ = node_.loop().start_timer(period_us, period_us, this);
+  }
   return true;
 }
 
@@ -153,18 +193,11 @@ void Server::accept_clients() {
     if (int sndbuf = int(node_.options().socket_send_bytes); sndbuf > 0) {
       setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof sndbuf);
     }
-    uint32_t index = 0;
-    while (index < clients_.size() && clients_[index].state != State::Free) ++index;
-    if (index == clients_.size()) {
-      // Say why before closing; the socket is fresh, so this small write fits.
-      wire::MessageWriter w(256);
-      auto& b = w.start();
+    uint32_t index = slot_for(peer);
+    if (index == UINT32_MAX) {
       char text[64];
       snprintf(text, sizeof text, "too many clients (limit %zu)", clients_.size());
-      auto body = wire::CreateError(b, wire::ErrorCode::Denied, b.CreateString(text));
-      auto frame = w.finish(wire::make_header({}, wire::Kind::Error, 0, 0, node_.now_us()),
-                            wire::Body::Error, body.Union());
-      (void)!send(fd, frame.data(), frame.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      send_error_now(fd, wire::ErrorCode::Denied, text, node_.now_us());
       log_warn("refused a client: %s", text);
       close(fd);
       continue;
@@ -176,6 +209,9 @@ void Server::accept_clients() {
     c.peer = peer;
     c.peer_len = len;
     c.udp_port = 0;
+    c.max_frame = 0;
+    c.connected_us = node_.loop().now_us();
+    c.heard_us = 0;
     // Sized now, so that serving the client allocates nothing later.
     c.out.reserve(node_.options().client_queue_bytes);
     c.partial.reserve(kPartialReserve);
@@ -185,6 +221,62 @@ void Server::accept_clients() {
     c.writing = false;
     log_debug("client %u connected (fd %d)", index, fd);
     node_.send_hello(index);
+  }
+}
+
+uint32_t Server::slot_for(const sockaddr_storage& peer) {
+  const uint16_t per_address = node_.options().max_clients_per_address;
+  uint32_t free_slot = UINT32_MAX, from_address = 0;
+  for (uint32_t i = 0; i < clients_.size(); ++i) {
+    if (clients_[i].state == State::Free) {
+      if (free_slot == UINT32_MAX) free_slot = i;
+    } else {
+      from_address += same_host(clients_[i].peer, peer);
+    }
+  }
+  const bool address_full = per_address != 0 && from_address >= per_address;
+  if (free_slot != UINT32_MAX && !address_full) return free_slot;
+  // Full: a connection being closed, else the oldest that has not said
+  // anything, gives up its slot (one of this address when that is what is
+  // full). A client that has spoken is never evicted.
+  uint32_t victim = UINT32_MAX;
+  auto rank = [](const Client& c) { return c.state == State::Draining ? 0 : 1; };
+  for (uint32_t i = 0; i < clients_.size(); ++i) {
+    const Client& c = clients_[i];
+    if (c.state == State::Free || (c.state == State::Open && c.heard_us != 0)) continue;
+    if (address_full && !same_host(c.peer, peer)) continue;
+    if (victim == UINT32_MAX || rank(c) < rank(clients_[victim]) ||
+        (rank(c) == rank(clients_[victim]) && c.connected_us < clients_[victim].connected_us)) {
+      victim = i;
+    }
+  }
+  if (victim == UINT32_MAX) return UINT32_MAX;
+  if (clients_[victim].state == State::Open) {
+    send_error_now(clients_[victim].fd, wire::ErrorCode::Timeout,
+                   "closed for a new client: this connection had sent nothing", node_.now_us());
+  }
+  log_info("client %u closed to make room for a new connection", victim);
+  close_client(victim);
+  return victim;
+}
+
+void Server::sweep() {
+  const Node::Options& opt = node_.options();
+  const uint64_t now = node_.loop().now_us();
+  for (uint32_t i = 0; i < clients_.size(); ++i) {
+    const Client& c = clients_[i];
+    if (c.state != State::Open) continue;
+    char text[80];
+    if (c.heard_us == 0 && opt.hello_timeout_ms != 0 && now - c.connected_us > uint64_t(opt.hello_timeout_ms) * 1000) {
+      snprintf(text, sizeof text, "no Hello (no valid frame) within %u ms of connecting", opt.hello_timeout_ms);
+    } else if (c.heard_us != 0 && c.opened.empty() && opt.idle_timeout_ms != 0 &&
+               now - c.heard_us > uint64_t(opt.idle_timeout_ms) * 1000) {
+      snprintf(text, sizeof text, "silent for %u ms with no device open", opt.idle_timeout_ms);
+    } else {
+      continue;
+    }
+    log_info("client %u: %s; closing", i, text);
+    close_with_error(i, wire::ErrorCode::Timeout, text);
   }
 }
 
@@ -235,29 +327,27 @@ void Server::read_client(uint32_t index) {
         std::string_view reason = wire::verify_error_text(why);
         log_warn("client %u: bad frame of %zu bytes: %.*s", index, frame.size(), int(reason.size()),
                  reason.data());
-        close_with_error(index, wire::ErrorCode::VerifyFailed, reason);
+        close_with_error(index, wire::ErrorCode::VerifyFailed, reason, wire::peek_header(frame));
         return;
       }
-      if (msg->header()->kind() == wire::Kind::Hello && msg->body_type() == wire::Body::Hello) {
-        handle_hello(index, *msg);
-      } else {
-        node_.route(index, *msg, frame);
-      }
+      c.heard_us = node_.loop().now_us();
+      node_.route(index, *msg, frame);
       if (c.state != State::Open) return;
     }
   }
 }
 
 void Server::handle_hello(uint32_t index, const wire::Message& msg) {
-  const wire::Hello* hello = msg.body_as_Hello();
+  const wire::Hello* hello = msg.body_as_Hello();  // present: checked by the router
   if (hello->protocol_version() != wire::kProtocolVersion) {
     char text[96];
     snprintf(text, sizeof text, "client speaks protocol %u, this node speaks %u",
              unsigned(hello->protocol_version()), unsigned(wire::kProtocolVersion));
-    close_with_error(index, wire::ErrorCode::VersionMismatch, text);
+    close_with_error(index, wire::ErrorCode::VersionMismatch, text, msg.header());
     return;
   }
   Client& c = clients_[index];
+  c.max_frame = hello->max_frame_bytes();
   if (hello->udp_port() != 0 && udp_fd_ < 0) {
     log_warn("client %u asked for UDP data, but UDP is disabled; data stays on TCP", index);
   } else {
@@ -345,9 +435,24 @@ void Server::flush(uint32_t index) {
   want_write(index, false);
 }
 
+bool Server::refuse_oversized(uint32_t client, std::span<const uint8_t> frame) {
+  const wire::Header& h = *wire::trusted_message(frame)->header();
+  if (h.kind() == wire::Kind::Data) return true;  // a Pull's data: skipped like pushed data
+  char text[96];
+  snprintf(text, sizeof text, "the reply has %zu bytes, over the %u bytes of your Hello's max_frame_bytes",
+           frame.size(), clients_[client].max_frame);
+  wire::MessageWriter w(256);
+  auto& b = w.start();
+  auto body = wire::CreateError(b, wire::ErrorCode::TooLarge, b.CreateString(text));
+  return send_reliable(client, w.finish(wire::make_header(h.addr(), wire::Kind::Nack, h.subtype(), h.seq(),
+                                                          node_.now_us()),
+                                        wire::Body::Error, body.Union()));
+}
+
 bool Server::send_reliable(uint32_t client, std::span<const uint8_t> frame) {
   if (client >= clients_.size() || clients_[client].state == State::Free) return false;
   Client& c = clients_[client];
+  if (c.max_frame != 0 && frame.size() > c.max_frame) return refuse_oversized(client, frame);
   size_t queued = c.out.size() - c.out_head;
   if (queued > 0 && queued + frame.size() > node_.options().client_queue_bytes) {
     log_warn("client %u does not read its replies (%zu bytes queued); disconnecting", client, queued);
@@ -367,7 +472,7 @@ bool Server::send_reliable(uint32_t client, std::span<const uint8_t> frame) {
 
 void Server::push_data(uint32_t client, DeviceId device, int slot, std::span<const uint8_t> frame) {
   Client& c = clients_[client];
-  if (c.state != State::Open) return;
+  if (c.state != State::Open || (c.max_frame != 0 && frame.size() > c.max_frame)) return;
   if (c.udp_port != 0 && frame.size() <= kMaxDatagram) {
     sockaddr_storage to = c.peer;
     if (to.ss_family == AF_INET6) {
@@ -387,14 +492,12 @@ void Server::push_data(uint32_t client, DeviceId device, int slot, std::span<con
   if (!c.writing) flush(client);
 }
 
-void Server::close_with_error(uint32_t client, wire::ErrorCode code, std::string_view text) {
+void Server::close_with_error(uint32_t client, wire::ErrorCode code, std::string_view text,
+                              const wire::Header* about) {
   Client& c = clients_[client];
   if (c.state != State::Open) return;
   wire::MessageWriter w(256);
-  auto& b = w.start();
-  auto body = wire::CreateError(b, code, b.CreateString(text.data(), text.size()));
-  auto frame = w.finish(wire::make_header({}, wire::Kind::Error, 0, 0, node_.now_us()), wire::Body::Error,
-                        body.Union());
+  auto frame = error_frame(w, about, code, text, node_.now_us());
   // Data and replies not yet sent are dropped: the Error is the last frame.
   c.partial.clear();
   c.partial_head = 0;
@@ -408,6 +511,7 @@ void Server::close_with_error(uint32_t client, wire::ErrorCode code, std::string
 }
 
 void Server::on_timer(TimerId id) {
+  if (id == sweep_) return sweep();
   for (uint32_t i = 0; i < clients_.size(); ++i) {
     if (clients_[i].state == State::Draining && clients_[i].linger == id) {
       clients_[i].linger = 0;
@@ -436,6 +540,7 @@ void Server::close_client(uint32_t index) {
   c.dirty_head = 0;
   c.writing = false;
   c.udp_port = 0;
+  c.max_frame = 0;
 }
 
 void Server::close_all() {

@@ -7,6 +7,13 @@
 // that device and gets whatever is newest when its socket drains. A slow
 // reader therefore loses old samples, never blocks the loop, never grows
 // memory.
+//
+// Slots are bounded (Node::Options::max_clients), so a connection that
+// holds one without using it is closed: one that has sent no valid frame
+// within hello_timeout_ms of connecting, or one that reads no device and has
+// been silent for idle_timeout_ms. A new connection that finds no slot free
+// takes the one of a connection already being closed or the oldest that has
+// not said anything yet: idle connections never lock a client out.
 #pragma once
 
 #include <sys/socket.h>
@@ -41,8 +48,11 @@ class Server final : public FdHandler, public TimerHandler {
   bool send_reliable(uint32_t client, std::span<const uint8_t> frame);
   /// Offers the newest data of `device` (slot `slot`) to a reader.
   void push_data(uint32_t client, DeviceId device, int slot, std::span<const uint8_t> frame);
-  /// Sends an Error frame, then closes the connection gracefully.
-  void close_with_error(uint32_t client, wire::ErrorCode code, std::string_view text);
+  /// Sends an Error frame, then closes the connection gracefully. The
+  /// Error echoes the address, subtype and seq of `about`, the offending
+  /// message, when there is one.
+  void close_with_error(uint32_t client, wire::ErrorCode code, std::string_view text,
+                        const wire::Header* about = nullptr);
   void close_all();
 
   void on_fd(int fd, uint32_t events) override;
@@ -67,6 +77,9 @@ class Server final : public FdHandler, public TimerHandler {
     sockaddr_storage peer{};
     socklen_t peer_len = 0;
     uint16_t udp_port = 0;  // >0: data goes as datagrams to peer:udp_port
+    uint32_t max_frame = 0;  // the client's Hello.max_frame_bytes (0: not said)
+    uint64_t connected_us = 0;  // event loop clock
+    uint64_t heard_us = 0;      // last valid frame; 0: none yet
   };
 
   void accept_clients();
@@ -79,6 +92,15 @@ class Server final : public FdHandler, public TimerHandler {
   void close_client(uint32_t index);
   void handle_hello(uint32_t index, const wire::Message& msg);
   uint32_t index_of_fd(int fd) const;
+  /// A slot for a connection from `peer`: a free one, or one taken from a
+  /// connection being closed or silent since it connected. UINT32_MAX when
+  /// every slot (or every slot of this address) serves a client.
+  uint32_t slot_for(const sockaddr_storage& peer);
+  /// Closes connections past their Hello or idle deadline.
+  void sweep();
+  /// A reply too large for the client's announced frame limit becomes a
+  /// Nack TooLarge; data that large is not sent to it.
+  bool refuse_oversized(uint32_t client, std::span<const uint8_t> frame);
 
   friend class Node;
 
@@ -86,6 +108,7 @@ class Server final : public FdHandler, public TimerHandler {
   int listen_fd_ = -1;
   int udp_fd_ = -1;
   uint16_t port_ = 0;
+  TimerId sweep_ = 0;
   std::vector<Client> clients_;
   std::vector<uint32_t> client_of_fd_;  // fd -> client index + 1 (0: none)
 };

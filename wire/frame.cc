@@ -65,6 +65,23 @@ const Message* verify_frame(std::span<const uint8_t> frame, const Limits& limits
   return msg;
 }
 
+const Header* peek_header(std::span<const uint8_t> frame) {
+  if (frame.size() < kPrefixBytes + sizeof(flatbuffers::uoffset_t) ||
+      read_prefix(frame.data()) != frame.size() - kPrefixBytes) {
+    return nullptr;
+  }
+  // The first steps of the full verification, stopping after the header.
+  flatbuffers::Verifier verifier(frame.data() + kPrefixBytes, frame.size() - kPrefixBytes, 1, 1);
+  flatbuffers::uoffset_t root = verifier.VerifyOffset(0);
+  if (root == 0) return nullptr;
+  const uint8_t* at = frame.data() + kPrefixBytes + root;
+  auto* table = reinterpret_cast<const flatbuffers::Table*>(at);
+  if (!table->VerifyTableStart(verifier) || !table->VerifyField<Header>(verifier, Message::VT_HEADER, 4)) {
+    return nullptr;
+  }
+  return reinterpret_cast<const Message*>(at)->header();
+}
+
 std::string_view verify_error_text(VerifyError e) {
   switch (e) {
     case VerifyError::None: return "ok";

@@ -78,6 +78,12 @@ const Message* verify_frame(std::span<const uint8_t> frame, const Limits& limits
 
 std::string_view verify_error_text(VerifyError e);
 
+/// The header of a frame verify_frame() refused, when the root table and the
+/// header in it are sound by themselves (the body may be what is broken), so
+/// that the Error answering it can echo its address, subtype and seq;
+/// nullptr otherwise.
+const Header* peek_header(std::span<const uint8_t> frame);
+
 /// The message of a frame this process built itself (no verification).
 inline const Message* trusted_message(std::span<const uint8_t> frame) {
   return flatbuffers::GetSizePrefixedRoot<Message>(frame.data());

@@ -11,6 +11,11 @@ namespace {
 
 float wrap_angle(float a) { return float(geometry::wrap_angle(a)); }
 
+// The node refuses non-finite values before they reach a driver
+// (wire/check.h); this guard keeps the base sound when the driver is used
+// without one: a single NaN would otherwise stay in the pose for good.
+bool finite(const wire::Pose2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.a()); }
+
 float approach(float current, float target, float max_change) {
   return current + std::clamp(target - current, -max_change, max_change);
 }
@@ -69,10 +74,12 @@ bool Kinematic::setup(Node& node, const DriverSetup& setup, std::string& error) 
 void Kinematic::on_command(DeviceId, const wire::Message& cmd) {
   last_command_us_ = node_->now_us();
   if (const wire::Position2dVel* vel = cmd.body_as_Position2dVel(); vel && vel->vel()) {
+    if (!finite(*vel->vel())) return;
     has_goal_ = false;
     base_.target_v = vel->vel()->x();
     base_.target_w = vel->vel()->a();
   } else if (const wire::Position2dGoto* go = cmd.body_as_Position2dGoto(); go && go->pose()) {
+    if (!finite(*go->pose()) || (go->max_vel() && !finite(*go->max_vel()))) return;
     has_goal_ = true;
     goal_ = *go->pose();
     goal_max_v_ = go->max_vel() && go->max_vel()->x() > 0 ? go->max_vel()->x() : limits_.max_speed;
@@ -140,6 +147,7 @@ void Kinematic::on_request(DeviceId device, const wire::Message& req, RequestTok
       if (set == nullptr || set->pose() == nullptr) {
         return node_->nack(token, wire::ErrorCode::BadArgument, "set odometry needs a pose");
       }
+      if (!finite(*set->pose())) return node_->nack(token, wire::ErrorCode::BadValue, "pose must be finite");
       base_.x = set->pose()->x();
       base_.y = set->pose()->y();
       base_.a = wrap_angle(set->pose()->a());

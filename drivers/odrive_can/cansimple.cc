@@ -1,6 +1,7 @@
 #include "drivers/odrive_can/cansimple.h"
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 namespace troupe::cansimple {
@@ -124,9 +125,12 @@ can_frame set_controller_modes_frame(uint8_t node_id, const ControllerModes& mod
 }
 
 can_frame set_input_vel_frame(uint8_t node_id, const InputVel& in) {
+  // The motor must never be told NaN or infinity, whatever computed it: a
+  // value that is not a number goes out as 0, a stop.
+  auto stop_unless_finite = [](float v) { return std::isfinite(v) ? v : 0.0f; };
   can_frame f = blank(node_id, Cmd::SetInputVel, 8);
-  put_f32(f.data, in.vel_turns_s);
-  put_f32(f.data + 4, in.torque_ff);
+  put_f32(f.data, stop_unless_finite(in.vel_turns_s));
+  put_f32(f.data + 4, stop_unless_finite(in.torque_ff));
   return f;
 }
 

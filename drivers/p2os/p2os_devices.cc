@@ -107,6 +107,7 @@ void P2os::send_velocity() {
   uint64_t now = node_->loop().now_us();
   next_keepalive_us_ = now + pulse_us_;
   if (state_ != State::Running) return;
+  if (!std::isfinite(target_v_) || !std::isfinite(target_w_)) target_v_ = target_w_ = 0;  // never encode NaN
   double v_mm_s = std::clamp(target_v_, -max_speed_, max_speed_) * 1000.0;
   double w = std::clamp(target_w_, -max_turn_, max_turn_);
   if (use_vel2_) {

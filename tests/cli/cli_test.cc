@@ -129,6 +129,31 @@ TEST_F(Cli, ErrorsAreOneLineAndNonZero) {
   EXPECT_NE(unknown.err.find("unknown command 'frobnicate'"), std::string::npos) << unknown.err;
 }
 
+// `troupe cmd ... vel nan 0 0` was sent (and poisoned the base); values are
+// checked against their documented range before any node is contacted.
+TEST_F(Cli, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
+  for (const char* args : {" position2d:0 vel nan 0 0", " position2d:0 vel 0.1 0 inf", " position2d:0 goto 1e30 0 0",
+                           " position2d:0 vel 1e39 0 0"}) {
+    Result r = troupe("cmd " + host_ + args);
+    EXPECT_EQ(r.rc, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  Result nan = troupe("cmd " + host_ + " position2d:0 vel nan 0 0");
+  EXPECT_NE(nan.err.find("'nan' is not a finite number"), std::string::npos) << nan.err;
+  Result far = troupe("cmd " + host_ + " position2d:0 goto 1e30 0 0");
+  EXPECT_NE(far.err.find("pose.x is 1e+30: it must be finite, from -1e+06 to 1e+06 m"), std::string::npos) << far.err;
+  Result huge = troupe("req " + host_ + " position2d:0 setodom 0 2e6 0");
+  EXPECT_EQ(huge.rc, 2);
+  EXPECT_NE(huge.err.find("pose.y"), std::string::npos) << huge.err;
+  // No node is needed to refuse it.
+  Result offline = troupe("cmd 127.0.0.1:" + std::to_string(free_port()) + " position2d:0 vel nan 0 0");
+  EXPECT_EQ(offline.rc, 2) << offline.err;
+  // The base was never touched: its pose is still a number.
+  Result echo = troupe("echo " + host_ + " position2d:0 --count 1");
+  EXPECT_EQ(echo.rc, 0);
+  EXPECT_EQ(echo.out.find("nan"), std::string::npos) << echo.out;
+}
+
 TEST(CliNode, BadConfigNamesTheKeyAndNothingStarts) {
   const std::string dir = troupe::testing::make_temp_dir("troupe-cli-");
   ASSERT_FALSE(dir.empty());

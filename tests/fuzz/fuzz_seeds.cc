@@ -1,9 +1,12 @@
-// Writes one valid frame of every body type into a folder: the fuzzer's
-// starting corpus, so it explores from real messages rather than from zero.
+// Writes one valid frame of every body type into a folder: the fuzzers'
+// starting corpus, so they explore from real messages rather than from zero.
+// Every message a client sends (tests/wire/samples.h), the data and replies
+// a node sends, and the frames that once crashed something.
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "tests/wire/samples.h"
 #include "wire/writer.h"
 
 using namespace troupe::wire;
@@ -107,6 +110,20 @@ int main(int argc, char** argv) {
     mb.add_body(body.Union());
     b.FinishSizePrefixed(mb.Finish());
     save("body-without-type", {b.GetBufferPointer(), b.GetSize()});
+  }
+  for (const troupe::testing::WireSample& sample : troupe::testing::wire_samples()) {
+    save(("client-" + sample.name).c_str(), sample.frame);
+  }
+  // Regression: a Hello and a TimeSync whose body type is set but whose body
+  // is absent (44 bytes): valid for the verifier; they crashed the node.
+  for (Kind kind : {Kind::Hello, Kind::TimeSync}) {
+    auto& b = w.start();
+    Header h = make_header({}, kind, 0, 9, 5);
+    MessageBuilder mb(b);
+    mb.add_body_type(kind == Kind::Hello ? Body::Hello : Body::TimeSync);
+    mb.add_header(&h);
+    b.FinishSizePrefixed(mb.Finish());
+    save(kind == Kind::Hello ? "hello-without-body" : "timesync-without-body", {b.GetBufferPointer(), b.GetSize()});
   }
   printf("%d seed frames in %s\n", written, argv[1]);
   return written > 0 ? 0 : 1;

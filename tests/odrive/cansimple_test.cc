@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -23,6 +24,14 @@ TEST(CanSimple, WorkedFrameFromTheProtocolNotes) {
   ASSERT_EQ(f.len, 8);
   const uint8_t expected[8] = {0x00, 0x00, 0x00, 0x40, 0x00, 0x00, 0x00, 0x00};
   EXPECT_EQ(std::memcmp(f.data, expected, 8), 0);
+}
+
+TEST(CanSimple, NonFiniteVelocitiesGoOutAsAStop) {
+  for (float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+    can_frame f = set_input_vel_frame(1, {bad, bad});
+    EXPECT_EQ(get_f32(f.data), 0.0f);
+    EXPECT_EQ(get_f32(f.data + 4), 0.0f);
+  }
 }
 
 TEST(CanSimple, IdsCarryNodeAndCommand) {

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "tests/runtime/node_fixture.h"
+#include "tests/wire/samples.h"
 #include "wire/client/proxies.h"
 
 namespace troupe::testing {
@@ -152,6 +153,144 @@ TEST_F(BadInput, WrongProtocolVersion) {
   auto hello = wire::CreateHello(b, 99, b.CreateString("from the future"));
   ASSERT_TRUE(raw.send_bytes(w.finish(wire::make_header({}, Kind::Hello, 0, 0, 0), wire::Body::Hello, hello.Union())));
   expect_error_and_close(raw, ErrorCode::VersionMismatch);
+  expect_others_served();
+}
+
+// A union type with no body behind it passes the FlatBuffers verifier (an
+// absent table is valid). A Hello or TimeSync like that, 44 bytes, once
+// crashed the node through a null pointer.
+std::vector<uint8_t> body_type_without_body(const wire::Address& a, Kind kind, uint8_t subtype, uint32_t seq,
+                                            wire::Body type) {
+  flatbuffers::FlatBufferBuilder b;
+  wire::Header h = wire::make_header(a, kind, subtype, seq, 5);
+  wire::MessageBuilder mb(b);
+  mb.add_body_type(type);
+  mb.add_header(&h);
+  b.FinishSizePrefixed(mb.Finish());
+  return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
+}
+
+TEST_F(BadInput, HelloWithoutItsBody) {
+  RawConnection raw = connect_raw();
+  auto f = body_type_without_body({}, Kind::Hello, 0, 7, wire::Body::Hello);
+  EXPECT_EQ(f.size(), 44u);
+  ASSERT_TRUE(raw.send_bytes(f));
+  expect_error_and_close(raw, ErrorCode::BadBody);
+  expect_others_served();
+}
+
+TEST_F(BadInput, TimeSyncWithoutItsBody) {
+  RawConnection raw = connect_raw();
+  ASSERT_TRUE(raw.send_bytes(body_type_without_body({}, Kind::TimeSync, 0, 8, wire::Body::TimeSync)));
+  expect_error_and_close(raw, ErrorCode::BadBody);
+  expect_others_served();
+}
+
+// Every command and request the schemas define, its body type set with no
+// body behind it, left out where it is required, or of another type: a Nack
+// BadBody echoing its seq, and the connection goes on.
+TEST_F(BadInput, EveryDeviceMessageWithAMissingOrWrongBody) {
+  RawConnection raw = connect_raw();
+  uint32_t seq = 100;
+  auto expect_nack = [&](std::span<const uint8_t> f, ErrorCode code, const std::string& what) {
+    ASSERT_TRUE(raw.send_bytes(f));
+    ASSERT_TRUE(raw.send_bytes(empty_frame({}, Kind::DeviceList, 0, 1)));  // after any reply
+    auto nack = raw.read_until(Kind::Nack);
+    ASSERT_FALSE(nack.empty()) << what << ": no Nack";
+    const wire::Message* m = wire::trusted_message(nack);
+    EXPECT_EQ(m->header()->seq(), seq) << what;
+    EXPECT_EQ(m->header()->subtype(), wire::trusted_message(f)->header()->subtype()) << what;
+    EXPECT_TRUE(m->header()->addr() == wire::trusted_message(f)->header()->addr()) << what;
+    EXPECT_EQ(m->body_as_Error()->code(), code) << what << ": " << m->body_as_Error()->text()->str();
+    ASSERT_FALSE(raw.read_until(Kind::DeviceList).empty()) << what;
+  };
+  wire::MessageWriter w;
+  for (const wire::BodyRule& r : wire::body_rules()) {
+    const wire::Address a(0, uint16_t(r.iface), 0);
+    const std::string what = std::string(wire::interface_name(uint16_t(r.iface))) + " " +
+                             std::string(wire::kind_name(r.kind)) + " " + std::to_string(r.subtype);
+    if (r.body != wire::Body::NONE) {
+      ++seq;
+      expect_nack(body_type_without_body(a, r.kind, r.subtype, seq, r.body), ErrorCode::BadBody, what + " (null body)");
+    }
+    if (r.required) {
+      ++seq;
+      expect_nack(empty_frame(a, r.kind, r.subtype, seq), ErrorCode::BadBody, what + " (no body)");
+    }
+    // A body of its interface that is not the one the subtype takes.
+    for (const wire::BodyRule& other : wire::body_rules()) {
+      if (other.iface != r.iface || other.body == r.body || other.body == wire::Body::NONE) continue;
+      auto& b = w.start();
+      auto body = sample_body(b, other.body);
+      ++seq;
+      auto f = w.finish(wire::make_header(a, r.kind, r.subtype, seq, 0), other.body, body);
+      expect_nack(f, ErrorCode::BadBody, what + " carrying " + wire::EnumNameBody(other.body));
+      break;
+    }
+  }
+  expect_others_served();
+}
+
+// A command of a subtype its interface does not define was dropped without
+// a word; now it is answered.
+TEST_F(BadInput, CommandOfAnUnknownSubtypeIsAnswered) {
+  RawConnection raw = connect_raw();
+  wire::MessageWriter w;
+  auto& b = w.start();
+  wire::Pose2d vel(0.1f, 0, 0);
+  auto body = wire::CreatePosition2dVel(b, &vel);
+  auto f = w.finish(wire::make_header(addr(Interface::Position2d), Kind::Command, 77, 55, 0),
+                    wire::Body::Position2dVel, body.Union());
+  ASSERT_TRUE(raw.send_bytes(f));
+  auto nack = raw.read_until(Kind::Nack);
+  ASSERT_FALSE(nack.empty());
+  const wire::Message* m = wire::trusted_message(nack);
+  EXPECT_EQ(m->header()->seq(), 55u);
+  EXPECT_EQ(m->header()->subtype(), 77);
+  EXPECT_EQ(m->body_as_Error()->code(), ErrorCode::Unsupported);
+  // A ranger takes no commands at all.
+  ASSERT_TRUE(raw.send_bytes(empty_frame(addr(Interface::Ranger), Kind::Command, 1, 56)));
+  nack = raw.read_until(Kind::Nack);
+  ASSERT_FALSE(nack.empty());
+  EXPECT_EQ(wire::trusted_message(nack)->header()->seq(), 56u);
+  expect_others_served();
+}
+
+// An Error names the frame it answers: its address, subtype and seq (they
+// were all zero), whenever the header itself could be read.
+TEST_F(BadInput, ErrorsEchoTheOffendingHeader) {
+  {
+    RawConnection raw = connect_raw();
+    ASSERT_TRUE(raw.send_bytes(vel_frame(addr(Interface::Ranger, 0, 3), 1, 4242)));
+    auto f = raw.read_until(Kind::Error);
+    ASSERT_FALSE(f.empty());
+    const wire::Header& h = *wire::trusted_message(f)->header();
+    EXPECT_EQ(h.seq(), 4242u);
+    EXPECT_EQ(h.subtype(), 1);
+    EXPECT_TRUE(h.addr() == addr(Interface::Ranger, 0, 3));
+  }
+  {
+    // A sound header over a broken body: a string whose length runs past the
+    // end of the frame.
+    RawConnection raw = connect_raw();
+    wire::MessageWriter w;
+    auto& b = w.start();
+    auto body = wire::CreateSimModel(b, b.CreateString("r0"));
+    auto built = w.finish(wire::make_header(addr(Interface::Simulation), Kind::Request, 5, 4343, 0),
+                          wire::Body::SimModel, body.Union());
+    std::vector<uint8_t> f(built.begin(), built.end());
+    const auto* name = wire::trusted_message(f)->body_as_SimModel()->name();
+    const size_t length_at = size_t(reinterpret_cast<const uint8_t*>(name) - f.data());
+    const uint32_t huge = 100000;
+    std::memcpy(f.data() + length_at, &huge, 4);
+    ASSERT_TRUE(raw.send_bytes(f));
+    auto e = raw.read_until(Kind::Error);
+    ASSERT_FALSE(e.empty());
+    const wire::Message* m = wire::trusted_message(e);
+    EXPECT_EQ(m->body_as_Error()->code(), ErrorCode::VerifyFailed);
+    EXPECT_EQ(m->header()->seq(), 4343u);
+    EXPECT_TRUE(m->header()->addr() == addr(Interface::Simulation));
+  }
   expect_others_served();
 }
 

@@ -3,6 +3,8 @@
 // device lists and access modes.
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "tests/runtime/node_fixture.h"
 #include "wire/client/proxies.h"
 
@@ -154,6 +156,93 @@ TEST(Protocol, ReadOnlyOpenRefusesCommands) {
   ASSERT_TRUE(other.command(pos, 1, wire::Body::Position2dVel, wire::CreatePosition2dVel(b2, &vel).Union()));
   ASSERT_TRUE(other.sync());
   EXPECT_EQ(rec->commands.load(), 1);
+}
+
+// Pull is a one-shot read: it needs no Open (and the schema now says so).
+TEST(Protocol, PullWorksWithoutOpen) {
+  RecorderNode n(Interface::Ranger);
+  n.recorder->burst(2);
+  while (n.recorder->published.load() < 2) std::this_thread::yield();
+  RawConnection raw(n.node.port());
+  ASSERT_FALSE(raw.read_until(Kind::Hello).empty());
+  ASSERT_TRUE(raw.send_bytes(empty_frame(addr(Interface::Ranger), Kind::Pull, 0, 31)));
+  auto data = raw.read_frame();
+  ASSERT_FALSE(data.empty());
+  EXPECT_EQ(wire::trusted_message(data)->header()->kind(), Kind::Data);
+  EXPECT_EQ(wire::trusted_message(data)->header()->seq(), 2u);  // the device's newest sample
+  auto ack = raw.read_frame();
+  ASSERT_FALSE(ack.empty());
+  EXPECT_EQ(wire::trusted_message(ack)->header()->kind(), Kind::Ack);
+  EXPECT_EQ(wire::trusted_message(ack)->header()->seq(), 31u);
+}
+
+// Every reply carries the seq, the subtype and the address of what it
+// answers (the device list and time sync replies sent subtype 0).
+TEST(Protocol, RepliesEchoSeqSubtypeAndAddress) {
+  RecorderNode n(Interface::Ranger);
+  RawConnection raw(n.node.port());
+  ASSERT_FALSE(raw.read_until(Kind::Hello).empty());
+  const wire::Address some(2, 0, 7);
+  ASSERT_TRUE(raw.send_bytes(empty_frame(some, Kind::DeviceList, 9, 77)));
+  auto list = raw.read_until(Kind::DeviceList);
+  ASSERT_FALSE(list.empty());
+  const wire::Header* h = wire::trusted_message(list)->header();
+  EXPECT_EQ(h->seq(), 77u);
+  EXPECT_EQ(h->subtype(), 9);
+  EXPECT_TRUE(h->addr() == some);
+  wire::MessageWriter w;
+  auto& b = w.start();
+  auto body = wire::CreateTimeSync(b, 123);
+  ASSERT_TRUE(raw.send_bytes(w.finish(wire::make_header(some, Kind::TimeSync, 3, 78, 0), wire::Body::TimeSync,
+                                      body.Union())));
+  auto sync = raw.read_until(Kind::TimeSync);
+  ASSERT_FALSE(sync.empty());
+  h = wire::trusted_message(sync)->header();
+  EXPECT_EQ(h->seq(), 78u);
+  EXPECT_EQ(h->subtype(), 3);
+  EXPECT_EQ(wire::trusted_message(sync)->body_as_TimeSync()->client_send_us(), 123u);
+  ASSERT_TRUE(raw.send_bytes(empty_frame(addr(Interface::Ranger), Kind::Request, 1, 79)));
+  auto ack = raw.read_until(Kind::Ack);
+  ASSERT_FALSE(ack.empty());
+  EXPECT_EQ(wire::trusted_message(ack)->header()->seq(), 79u);
+  EXPECT_EQ(wire::trusted_message(ack)->header()->subtype(), 1);
+}
+
+std::vector<uint8_t> hello_frame(uint32_t max_frame_bytes) {
+  wire::MessageWriter w;
+  auto& b = w.start();
+  auto body = wire::CreateHello(b, wire::kProtocolVersion, b.CreateString("small"), max_frame_bytes);
+  auto f = w.finish(wire::make_header({}, Kind::Hello, 0, 0, 0), wire::Body::Hello, body.Union());
+  return {f.begin(), f.end()};
+}
+
+// A client's Hello.max_frame_bytes is honoured: a reply larger than it is
+// answered Nack TooLarge instead (it used to be ignored).
+TEST(Protocol, TheClientsFrameLimitIsHonoured) {
+  NodeThread node(test_options());
+  node.add_device(Interface::Ranger, 0, new Recorder, std::string(2000, 'x').c_str());
+  node.start();
+  RawConnection raw(node.port());
+  ASSERT_FALSE(raw.read_until(Kind::Hello).empty());
+  ASSERT_TRUE(raw.send_bytes(hello_frame(1024)));
+  ASSERT_TRUE(raw.send_bytes(empty_frame({}, Kind::DeviceList, 0, 5)));
+  auto nack = raw.read_frame();
+  ASSERT_FALSE(nack.empty());
+  const wire::Message* m = wire::trusted_message(nack);
+  ASSERT_EQ(m->header()->kind(), Kind::Nack);
+  EXPECT_EQ(m->header()->seq(), 5u);
+  EXPECT_EQ(m->body_as_Error()->code(), wire::ErrorCode::TooLarge);
+  // Small replies still come.
+  ASSERT_TRUE(raw.send_bytes(empty_frame(addr(Interface::Ranger), Kind::Request, 1, 6)));
+  EXPECT_FALSE(raw.read_until(Kind::Ack).empty());
+  // A limit too small for any reply is refused.
+  RawConnection tiny(node.port());
+  ASSERT_FALSE(tiny.read_until(Kind::Hello).empty());
+  ASSERT_TRUE(tiny.send_bytes(hello_frame(100)));
+  auto e = tiny.read_until(Kind::Error);
+  ASSERT_FALSE(e.empty());
+  EXPECT_EQ(wire::trusted_message(e)->body_as_Error()->code(), wire::ErrorCode::BadValue);
+  EXPECT_TRUE(tiny.wait_closed());
 }
 
 TEST(Protocol, ClockOffsetIsLearnedAtConnect) {

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "wire/address.h"
+#include "wire/check.h"
 #include "wire/cli/cli.h"
 #include "wire/cli/verbs.h"
 
@@ -137,11 +138,22 @@ int cmd_send(const std::vector<std::string>& args, wire::Kind kind) {
     return usage_error(name, std::string(verb->name) + " takes " + (*verb->args ? verb->args : "no arguments") +
                                  " (" + verb->help + ")");
   }
+  // The message is built and checked as the node will check it (wire/check.h)
+  // before connecting: a value out of its range needs no node to be refused.
+  Built built;
+  wire::MessageWriter scratch;
+  if (!verb->build(scratch.start(), verb_args, built, error)) return usage_error(name, error);
+  wire::Refusal why;
+  const wire::Address unresolved(0, uint16_t(spec.iface), spec.index);
+  if (!wire::check_message(*wire::trusted_message(scratch.finish(
+                               wire::make_header(unresolved, kind, verb->subtype, 0, 0), built.type, built.body)),
+                           why)) {
+    return usage_error(name, std::string(verb->name) + ": " + why.text);
+  }
   auto c = connect(p.host);
   if (!c) return kExitFailure;
   wire::Address addr;
   if (!resolve(*c, p.addr, addr)) return kExitFailure;
-  Built built;
   if (!verb->build(c->begin(), verb_args, built, error)) return usage_error(name, error);
   if (kind == wire::Kind::Command) {
     if (!c->command(addr, verb->subtype, built.type, built.body)) return fail(c->error());

@@ -1,6 +1,7 @@
 // What `troupe cmd` and `troupe req` understand: a table from (interface,
 // kind, verb) to a message. A new verb is one row and, when it has
 // arguments, one small body builder.
+#include <cmath>
 #include <cstdlib>
 #include <span>
 #include <vector>
@@ -14,16 +15,18 @@ using wire::Body;
 using Builder = flatbuffers::FlatBufferBuilder;
 using Args = std::span<const std::string>;
 
+// strtof reads "nan" and "inf" (and turns 1e39 into inf): none of them is
+// a value any field takes.
 bool number(const std::string& text, float& out) {
   char* end = nullptr;
   out = strtof(text.c_str(), &end);
-  return end != text.c_str() && *end == '\0';
+  return end != text.c_str() && *end == '\0' && std::isfinite(out);
 }
 
 bool numbers(Args args, float* out, size_t n, std::string& error) {
   for (size_t i = 0; i < n; ++i) {
     if (!number(args[i], out[i])) {
-      error = "'" + args[i] + "' is not a number";
+      error = "'" + args[i] + "' is not a finite number";
       return false;
     }
   }

@@ -21,7 +21,7 @@ from troupe.wire.Position2dState import Position2dState
 
 from .address import Address
 from .client import Client
-from .proxy import Pose2, Pose3, Proxy, Vec3, pose2, pose3, vec3
+from .proxy import Pose2, Pose3, Proxy, Vec3, finite, pose2, pose3, vec3
 
 
 def switch_body(b, on: bool) -> int:
@@ -77,7 +77,9 @@ class Position2dProxy(Proxy):
         self.fault = fault.decode("utf-8", "replace") if fault else None
 
     def set_velocity(self, vx: float, vy: float, va: float) -> bool:
-        """Commands the velocity: m/s forward, m/s left, rad/s."""
+        """Commands the velocity: m/s forward, m/s left, rad/s. Raises
+        ValueError for NaN or infinity."""
+        finite(vx=vx, vy=vy, va=va)
         b = self.client.begin()
         _vel.Position2dVelStart(b)
         _vel.Position2dVelAddVel(b, CreatePose2d(b, vx, vy, va))
@@ -85,7 +87,11 @@ class Position2dProxy(Proxy):
 
     def go_to(self, x: float, y: float, a: float, max_vel: Pose2 | None = None) -> bool:
         """Commands driving to a pose in the odometry frame (m, m, rad), within
-        max_vel (m/s, m/s, rad/s; None: the driver's limits)."""
+        max_vel (m/s, m/s, rad/s; None: the driver's limits). Raises
+        ValueError for NaN or infinity."""
+        finite(x=x, y=y, a=a)
+        if max_vel is not None:
+            finite(**{f"max_vel.{k}": v for k, v in zip("xya", max_vel)})
         b = self.client.begin()
         _goto.Position2dGotoStart(b)
         if max_vel is not None:
@@ -99,6 +105,7 @@ class Position2dProxy(Proxy):
 
     def set_odometry(self, x: float, y: float, a: float) -> bool:
         """Restarts odometry from a pose: m, m, rad."""
+        finite(x=x, y=y, a=a)
         b = self.client.begin()
         _odom.Position2dSetOdomStart(b)
         _odom.Position2dSetOdomAddPose(b, CreatePose2d(b, x, y, a))
@@ -137,6 +144,7 @@ class ActuatorProxy(Proxy):
             self.mode, self.position, self.beams, self.stored = s.Mode(), s.Position(), s.Beams(), s.Stored()
 
     def _act(self, action: int, value: float) -> bool:
+        finite(value=value)
         b = self.client.begin()
         _ac.ActuatorCommandStart(b)
         _ac.ActuatorCommandAddAction(b, action)

@@ -27,7 +27,7 @@ from troupe.wire.SimulationReqSub import SimulationReqSub
 
 from .address import Address
 from .client import Client
-from .proxy import Pose2, Proxy, pose2, scalar_vector
+from .proxy import Pose2, Proxy, finite, pose2, scalar_vector
 
 
 class Hypothesis(NamedTuple):
@@ -63,6 +63,7 @@ class LocalizeProxy(Proxy):
 
     def set_pose(self, x: float, y: float, a: float, sx: float, sy: float, sa: float) -> bool:
         """Starts pose tracking from a pose (m, m, rad) with standard deviations (m, m, rad)."""
+        finite(x=x, y=y, a=a, sx=sx, sy=sy, sa=sa)
         b = self.client.begin()
         _setpose.LocalizeSetPoseStart(b)
         _setpose.LocalizeSetPoseAddCov(b, CreateCov2d(b, sx * sx, 0, 0, sy * sy, 0, sa * sa))
@@ -164,6 +165,7 @@ class SimulationProxy(Proxy):
 
     def set_speed(self, speed: float) -> bool:
         """Multiple of real time; 0: as fast as possible."""
+        finite(speed=speed)
         b = self.client.begin()
         _speed.SimSpeedStart(b)
         _speed.SimSpeedAddSpeed(b, speed)
@@ -181,6 +183,7 @@ class SimulationProxy(Proxy):
 
     def set_pose(self, model: str, pose: Pose2) -> bool:
         """Teleports a model to a world pose: m, m, rad."""
+        finite(x=pose[0], y=pose[1], a=pose[2])
         b = self.client.begin()
         name = b.CreateString(model)
         _simpose.SimPoseStart(b)

@@ -6,6 +6,7 @@ client's whole life. Dropping the last reference to a proxy unhooks it."""
 
 from __future__ import annotations
 
+import math
 import struct
 from typing import NamedTuple
 
@@ -41,6 +42,16 @@ class Pose3(NamedTuple):
     roll: float = 0.0
     pitch: float = 0.0
     yaw: float = 0.0
+
+
+def finite(**values: float) -> None:
+    """Raises ValueError naming the first value that is NaN or infinite: no
+    field of the protocol takes one (wire/README.md, "Valid values"), and a
+    node would answer it with Nack BadValue. Ranges beyond that are the
+    node's to check."""
+    for name, v in values.items():
+        if not math.isfinite(v):
+            raise ValueError(f"{name} is {v}: it must be a finite number")
 
 
 def pose2(p) -> Pose2:
