@@ -2,9 +2,21 @@
 
 #include <cmath>
 
+#include "runtime/log.h"
+
 namespace troupe::sim {
 
 using wire::ErrorCode;
+
+void SimServer::log_refused(const char* what, RobotId robot, const Pose& value) {
+  // Logged at the 1st, 2nd, 4th, 8th, ... refusal: a client that floods bad
+  // commands cannot flood the log.
+  ++refused_;
+  if ((refused_ & (refused_ - 1)) != 0) return;
+  log_warn("robot '%s': %s (%g, %g, %g) refused: not finite or out of range (%llu refused so far)",
+           world_.robot(robot).name.c_str(), what, value.x, value.y, value.a,
+           static_cast<unsigned long long>(refused_));
+}
 
 SimServer::SimServer(World& world, SimControl& control, int only)
     : world_(world), control_(control), only_(only) {}
@@ -102,10 +114,18 @@ bool SimServer::sync_wanted() {
 void SimServer::on_command(DeviceId id, const wire::Message& cmd) {
   const Device* d = find(id);
   if (d == nullptr || d->kind != Kind::Position || !d->motors_on) return;
+  Command c;
   if (const wire::Position2dVel* v = cmd.body_as_Position2dVel(); v && v->vel()) {
-    world_.command(d->robot, Command::velocity(v->vel()->x(), v->vel()->y(), v->vel()->a()));
+    c = Command::velocity(v->vel()->x(), v->vel()->y(), v->vel()->a());
   } else if (const wire::Position2dGoto* g = cmd.body_as_Position2dGoto(); g && g->pose()) {
-    world_.command(d->robot, Command::go_to(g->pose()->x(), g->pose()->y(), g->pose()->a()));
+    c = Command::go_to(g->pose()->x(), g->pose()->y(), g->pose()->a());
+  } else {
+    return;
+  }
+  // The node refuses non-finite fields before they get here; this guards
+  // every other way in.
+  if (!world_.command(d->robot, c)) {
+    log_refused(c.mode == CommandMode::Velocity ? "velocity command" : "goto command", d->robot, c.value);
   }
 }
 
@@ -182,7 +202,11 @@ void SimServer::position_request(Device& d, const wire::Message& req, RequestTok
       const wire::Position2dSetOdom* set = req.body_as_Position2dSetOdom();
       if (set == nullptr || set->pose() == nullptr)
         return node_->nack(token, ErrorCode::BadArgument, "needs a pose");
-      world_.set_odometry(d.robot, {set->pose()->x(), set->pose()->y(), set->pose()->a()});
+      const Pose pose{set->pose()->x(), set->pose()->y(), set->pose()->a()};
+      if (!world_.set_odometry(d.robot, pose)) {
+        log_refused("odometry", d.robot, pose);
+        return node_->nack(token, ErrorCode::BadArgument, "the odometry pose must be finite");
+      }
       return node_->ack(token);
     }
     case Sub::ResetOdometry:
@@ -256,7 +280,12 @@ void SimServer::simulation_request(const wire::Message& req, RequestToken token)
         if (set) {
           const wire::Pose2d* p = req.body_as_SimPose()->pose();
           if (p == nullptr) return node_->nack(token, ErrorCode::BadArgument, "needs a pose");
-          world_.set_pose(*robot, {p->x(), p->y(), p->a()});
+          const Pose pose{p->x(), p->y(), p->a()};
+          if (!world_.set_pose(*robot, pose)) {
+            log_refused("teleport", *robot, pose);
+            return node_->nack(token, ErrorCode::BadArgument,
+                               "the pose must be finite, |x| and |y| at most 1e6 m");
+          }
           world_.refresh_sensors();
           return node_->ack(token);
         }

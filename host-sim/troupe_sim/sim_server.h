@@ -64,6 +64,8 @@ class SimServer final : public Driver {
   void ranger_request(const Device& d, const wire::Message& request, RequestToken token);
   void models_request(RequestToken token);
   void map_request(const Device& d, const wire::Message& request, RequestToken token);
+  /// Logs a command, teleport or odometry reset the world refused.
+  void log_refused(const char* what, RobotId robot, const Pose& value);
 
   World& world_;
   SimControl& control_;
@@ -73,6 +75,7 @@ class SimServer final : public Driver {
   std::vector<uint16_t> scratch_ranges_;
   std::vector<wire::Pose2d> scratch_poses_;
   std::vector<uint8_t> scratch_cells_;
+  uint64_t refused_ = 0;  // inputs the world refused, for log_refused()
 };
 
 }  // namespace troupe::sim

@@ -23,7 +23,10 @@ const char* kUsage =
     "options:\n"
     "  --http-port P     HTTP port (default 6680; 0: any free port)\n"
     "  --listen ADDR     address to serve the page on (default 127.0.0.1)\n"
-    "  --root DIR        folder with the page's files (default: viewer/ beside this program)\n";
+    "  --root DIR        folder with the page's files (default: viewer/ beside this program)\n"
+    "  --allow-origin O  also accept WebSockets from pages of origin O (http://host:port;\n"
+    "                    repeatable); by default only the page it served itself, under an\n"
+    "                    address or this machine's name\n";
 
 bool port_number(const char* text, uint16_t& out) {
   char* end = nullptr;
@@ -55,6 +58,8 @@ int main(int argc, char** argv) {
       options.listen = argv[++i];
     } else if (a == "--root" && has_value) {
       options.web_root = argv[++i];
+    } else if (a == "--allow-origin" && has_value) {
+      options.allow_origins.push_back(argv[++i]);
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "troupe-view: unknown option or missing value: %s\n\n%s", a.c_str(), kUsage);
       return 2;
