@@ -179,5 +179,42 @@ TEST(Controllers, AThrowingControllerStopsOnlyItsRobot) {
   EXPECT_NEAR(w.state(1).pose.x, 0.6, 1e-9);
 }
 
+// A controller whose arithmetic went wrong: it drives, then divides by zero.
+class GoesNonFinite final : public Controller {
+ public:
+  bool init(RobotHandle&, std::string&) override { return true; }
+  void update(RobotHandle& robot) override {
+    const double v = robot.time() < 0.5 ? 0.3 : 0.0 / zero_;
+    robot.command(Command::velocity(v, 0, 0));
+  }
+
+ private:
+  double zero_ = 0;
+};
+
+TEST(Controllers, AControllerCommandingNaNIsStoppedAndTheWorldStaysFinite) {
+  WorldDesc desc = test::room(10, 10);
+  desc.robots.push_back(test::robot("nan", {0, 0, 0}));
+  desc.robots.push_back(test::robot("good", {0, 3, 0}));
+  World w(desc, Random(1));
+  ControllerHost host;
+  std::string err;
+  ASSERT_TRUE(host.attach(w, 0, std::make_unique<GoesNonFinite>(), err));
+  ASSERT_TRUE(host.attach(w, 1, std::make_unique<Drives>(), err));
+  for (int s = 0; s < 30; ++s) {
+    host.update(w);
+    w.step();
+  }
+  auto errors = host.take_errors();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("'nan'"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[0].find("non-finite command ("), std::string::npos) << errors[0];
+  EXPECT_NE(errors[0].find("nan, 0, 0) refused"), std::string::npos) << errors[0];
+  EXPECT_EQ(w.state(0).velocity.x, 0);
+  EXPECT_TRUE(finite_pose(w.state(0).pose));
+  EXPECT_NEAR(w.state(0).pose.x, 0.15, 1e-9);  // 5 steps at 0.3 m/s
+  EXPECT_NEAR(w.state(1).pose.x, 0.6, 1e-9);
+}
+
 }  // namespace
 }  // namespace troupe::sim
