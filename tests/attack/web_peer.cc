@@ -66,7 +66,7 @@ HttpReply http_get(uint16_t port, const std::string& target) {
                                  "\r\nConnection: close\r\n\r\n");
 }
 
-int WebPeer::handshake(uint16_t port, const std::string& host, const std::string& origin) {
+int WebPeer::handshake(uint16_t port, const std::string& host, const std::string& origin, std::string* body) {
   in_.clear();
   close_code_ = 0;
   if (!socket_.connect(port)) return 0;
@@ -77,7 +77,9 @@ int WebPeer::handshake(uint16_t port, const std::string& host, const std::string
   req += "\r\n";
   const Deadline deadline = deadline_in(10000);
   if (!socket_.send(text_bytes(req), ms_left(deadline))) return 0;
-  return read_reply(socket_, deadline, &in_).status;
+  HttpReply reply = read_reply(socket_, deadline, &in_);
+  if (body) *body = std::move(reply.body);
+  return reply.status;
 }
 
 bool WebPeer::send_message(const Bytes& payload, bool text) {
