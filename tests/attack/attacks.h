@@ -61,6 +61,9 @@ struct HostileFrame {
 /// every kind with every body type to the target's devices, and the
 /// requests that need their body.
 std::vector<HostileFrame> null_body_frames(TargetKind kind);
+/// Fewer of them: each kind with the body it would carry, and the requests
+/// that need their body.
+std::vector<HostileFrame> null_body_sample(TargetKind kind);
 
 /// Every case, in the order of the table.
 const std::vector<Attack>& attacks();

@@ -177,6 +177,25 @@ void malformed_frames(Target& t, int scale, Outcome& out) {
   }
 }
 
+namespace {
+
+// Requests that cannot be carried out without their body: acknowledging
+// one is taking an absent value for a real one.
+void add_requests_needing_bodies(TargetKind kind, Frames& f, uint32_t& seq, std::vector<HostileFrame>& list) {
+  auto needs = [&](wire::Address addr, uint8_t sub, wire::Body type, const std::string& what) {
+    list.push_back({f.null_body(addr, wire::Kind::Request, sub, ++seq, type), what + " without its body"});
+  };
+  needs(kPosition0, uint8_t(wire::Position2dReqSub::MotorPower), wire::Body::Switch, "MotorPower");
+  needs(kPosition0, uint8_t(wire::Position2dReqSub::SetOdometry), wire::Body::Position2dSetOdom, "SetOdometry");
+  if (kind == TargetKind::Sim) {
+    needs(kSimulation, uint8_t(wire::SimulationReqSub::SetSpeed), wire::Body::SimSpeed, "SetSpeed");
+    needs(kSimulation, uint8_t(wire::SimulationReqSub::SetPose), wire::Body::SimPose, "SetPose");
+    needs(kSimulation, uint8_t(wire::SimulationReqSub::GetPose), wire::Body::SimModel, "GetPose");
+  }
+}
+
+}  // namespace
+
 std::vector<HostileFrame> null_body_frames(TargetKind kind) {
   Frames f;
   std::vector<HostileFrame> list;
@@ -195,18 +214,27 @@ std::vector<HostileFrame> null_body_frames(TargetKind kind) {
       }
     }
   }
-  // Requests that cannot be carried out without their body: acknowledging
-  // one is taking an absent value for a real one.
-  auto needs = [&](wire::Address addr, uint8_t sub, wire::Body type, const std::string& what) {
-    list.push_back({f.null_body(addr, wire::Kind::Request, sub, ++seq, type), what + " without its body"});
-  };
-  needs(kPosition0, uint8_t(wire::Position2dReqSub::MotorPower), wire::Body::Switch, "MotorPower");
-  needs(kPosition0, uint8_t(wire::Position2dReqSub::SetOdometry), wire::Body::Position2dSetOdom, "SetOdometry");
-  if (kind == TargetKind::Sim) {
-    needs(kSimulation, uint8_t(wire::SimulationReqSub::SetSpeed), wire::Body::SimSpeed, "SetSpeed");
-    needs(kSimulation, uint8_t(wire::SimulationReqSub::SetPose), wire::Body::SimPose, "SetPose");
-    needs(kSimulation, uint8_t(wire::SimulationReqSub::GetPose), wire::Body::SimModel, "GetPose");
+  add_requests_needing_bodies(kind, f, seq, list);
+  return list;
+}
+
+std::vector<HostileFrame> null_body_sample(TargetKind kind) {
+  Frames f;
+  std::vector<HostileFrame> list;
+  uint32_t seq = 3000;
+  // Each kind with the body it would carry (Hello and TimeSync are the
+  // ones that took every program down).
+  for (wire::Kind k : all_kinds()) {
+    wire::Body type = wire::Body::Hello;
+    if (k == wire::Kind::TimeSync) type = wire::Body::TimeSync;
+    if (k == wire::Kind::Open) type = wire::Body::Open;
+    if (k == wire::Kind::DeviceList) type = wire::Body::DeviceList;
+    if (k == wire::Kind::Error || k == wire::Kind::Nack) type = wire::Body::Error;
+    if (k == wire::Kind::Command) type = wire::Body::Position2dVel;
+    if (k == wire::Kind::Data) type = wire::Body::Position2dState;
+    list.push_back({f.null_body(kPosition0, k, 1, ++seq, type), {}});
   }
+  add_requests_needing_bodies(kind, f, seq, list);
   return list;
 }
 

@@ -73,7 +73,7 @@ void connection_churn(Target& t, int scale, Outcome& out) {
   Frames f;
   const Bytes hello = f.hello(0);
   const Bytes list = f.bare({}, wire::Kind::DeviceList, 0, 1);
-  for (int i = 0; i < 500 * scale; ++i) {
+  for (int i = 0; i < 200 * scale; ++i) {
     TcpSocket s;
     if (!s.connect(t.port())) continue;
     ++out.volume;
