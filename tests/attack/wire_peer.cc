@@ -101,17 +101,20 @@ Bytes Frames::open(wire::Address addr, uint32_t seq, wire::Access access, wire::
 Bytes Frames::vel(wire::Address addr, float x, float y, float a) {
   auto& b = w_.start();
   const wire::Pose2d v(x, y, a);
-  auto body = wire::CreatePosition2dVel(b, &v);
-  return take(w_.finish(wire::make_header(addr, wire::Kind::Command, uint8_t(wire::Position2dCmdSub::Vel), 0, 0),
-                        wire::Body::Position2dVel, body.Union()));
+  return pose_command(addr, wire::Position2dCmdSub::Vel, wire::Body::Position2dVel,
+                      wire::CreatePosition2dVel(b, &v).Union());
 }
 
 Bytes Frames::go_to(wire::Address addr, float x, float y, float a) {
   auto& b = w_.start();
   const wire::Pose2d p(x, y, a);
-  auto body = wire::CreatePosition2dGoto(b, &p);
-  return take(w_.finish(wire::make_header(addr, wire::Kind::Command, uint8_t(wire::Position2dCmdSub::Goto), 0, 0),
-                        wire::Body::Position2dGoto, body.Union()));
+  return pose_command(addr, wire::Position2dCmdSub::Goto, wire::Body::Position2dGoto,
+                      wire::CreatePosition2dGoto(b, &p).Union());
+}
+
+Bytes Frames::pose_command(wire::Address addr, wire::Position2dCmdSub sub, wire::Body type,
+                           flatbuffers::Offset<void> body) {
+  return take(w_.finish(wire::make_header(addr, wire::Kind::Command, uint8_t(sub), 0, 0), type, body));
 }
 
 Bytes Frames::set_odometry(wire::Address addr, uint32_t seq, float x, float y, float a) {

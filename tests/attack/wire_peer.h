@@ -75,6 +75,8 @@ class Frames {
 
  private:
   Bytes take(std::span<const uint8_t> frame) { return Bytes(frame.begin(), frame.end()); }
+  Bytes pose_command(wire::Address addr, wire::Position2dCmdSub sub, wire::Body type,
+                     flatbuffers::Offset<void> body);
   wire::MessageWriter w_;
 };
 

@@ -126,6 +126,18 @@ class RecordReplay : public ::testing::Test {
   }
   static std::string host(uint16_t port) { return "127.0.0.1:" + std::to_string(port); }
 
+  /// Records `count` samples of the kinematic example's position2d:0 into
+  /// the file `name`; its path.
+  std::string record_kinematic(const std::string& name, int count) {
+    uint16_t port = free_port();
+    Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
+    EXPECT_TRUE(node.wait_listening(port)) << node.err();
+    std::string log = file(name);
+    EXPECT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", std::to_string(count)}).rc, 0);
+    EXPECT_EQ(node.stop(), 0);
+    return log;
+  }
+
   /// Plays `log` with `troupe play --wait` and collects what a client sees
   /// of `devices`, until the player exits.
   std::vector<Sample> play(const std::string& log, const std::vector<std::string>& devices,
@@ -231,12 +243,7 @@ TEST_F(RecordReplay, ARobotOfTroupeSimPlaysBackUnderItsRobotName) {
 }
 
 TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
-  uint16_t port = free_port();
-  Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
-  ASSERT_TRUE(node.wait_listening(port)) << node.err();
-  std::string log = file("whole.trl");
-  ASSERT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", "12"}).rc, 0);
-  EXPECT_EQ(node.stop(), 0);
+  std::string log = record_kinematic("whole.trl", 12);
   std::vector<Sample> recorded = samples_in(log);
   std::vector<uint64_t> offsets = data_offsets(log);
   ASSERT_EQ(offsets.size(), 12u);
@@ -275,12 +282,7 @@ TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
 // A recording whose record time jumps (a recorder clock that stepped, or a
 // time damaged with its checksum redone) must not make play wait for days.
 TEST_F(RecordReplay, ATimeJumpIsReportedAndNotWaitedFor) {
-  uint16_t port = free_port();
-  Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
-  ASSERT_TRUE(node.wait_listening(port)) << node.err();
-  std::string log = file("jump.trl");
-  ASSERT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", "10"}).rc, 0);
-  EXPECT_EQ(node.stop(), 0);
+  std::string log = record_kinematic("jump.trl", 10);
   std::vector<Sample> recorded = samples_in(log);
   std::vector<uint64_t> offsets = data_offsets(log);
   ASSERT_EQ(offsets.size(), 10u);
