@@ -64,6 +64,14 @@ int main(int argc, char** argv) {
                        troupe::sim::emulated_kind_name(d.kind), d.path.c_str());
     }
   }
+  // The robots served as Pioneers on TCP, one "ROBOT p2os-tcp HOST:PORT"
+  // line each, for scripts.
+  if (!runner.p2os_tcp().empty()) {
+    std::fputs(runner.p2os_tcp().info().c_str(), stdout);
+    std::fflush(stdout);
+    troupe::log_info("ARIA programs connect to robot %s with -remoteHost %s -remoteRobotTcpPort %u",
+                     w.robot(0).name.c_str(), options.listen.c_str(), unsigned(runner.p2os_tcp().port(0)));
+  }
   std::unique_ptr<troupe::viewer::ViewServer> viewer;
   if (options.serve && options.view) {
     troupe::viewer::ViewOptions vo;

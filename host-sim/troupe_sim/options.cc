@@ -48,6 +48,11 @@ const char* sim_usage() {
          "                          (repeatable, one per robot)\n"
          "  --emulate-info FILE     also write those lines to FILE (complete when it appears)\n"
          "  --emulate-links DIR     also name each device DIR/ROBOT-DEVICE (a symbolic link)\n"
+         "  --p2os-tcp[=PORT]       serve every robot's base as a Pioneer (P2OS) on TCP, as\n"
+         "                          MobileSim does: robot i on PORT+i (default 8101), its\n"
+         "                          laser in MobileSim's laser packets; unchanged ARIA\n"
+         "                          programs connect to it (printed as lines ROBOT p2os-tcp\n"
+         "                          HOST:PORT)\n"
          "\n"
          "exit status: 0 when the run reached its quit time (also when a client's Step\n"
          "request got there; the log says so) or was stopped by SIGINT/SIGTERM; 1 when the\n"
@@ -56,7 +61,8 @@ const char* sim_usage() {
          "examples:\n"
          "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
          "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n"
-         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n";
+         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n"
+         "  troupe-sim examples/worlds/sitl_room.world --p2os-tcp      # ARIA: localhost:8101\n";
 }
 
 namespace {
@@ -171,6 +177,18 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
     } else if (a == "--emulate-links") {
       if (!value(t)) return false;
       out.emulate_links = t;
+    } else if (a == "--p2os-tcp" || a.rfind("--p2os-tcp=", 0) == 0) {
+      out.p2os_tcp_port = 8101;
+      if (a.size() > 10) {
+        char* end = nullptr;
+        const std::string v = a.substr(11);
+        unsigned long port = strtoul(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || port > 65535) {
+          error = "--p2os-tcp=PORT: not a port number (0..65535)";
+          return false;
+        }
+        out.p2os_tcp_port = int(port);
+      }
     } else if (a == "--log-level") {
       if (!value(t)) return false;
       out.log_level = t;
@@ -186,6 +204,14 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
   }
   if (out.world.empty()) {
     error = "no world file given";
+    return false;
+  }
+  if (out.paused && !out.serve) {
+    error = "--paused with --no-serve: nothing could ever resume the simulation";
+    return false;
+  }
+  if (out.p2os_tcp_port >= 0 && !out.serve) {
+    error = "--p2os-tcp with --no-serve: --no-serve opens no sockets";
     return false;
   }
   return true;

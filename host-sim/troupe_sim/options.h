@@ -51,6 +51,10 @@ struct SimOptions {
   std::string emulate_info;
   /// Give each emulated device a stable name in this folder: ROBOT-DEVICE.
   std::string emulate_links;
+  /// --p2os-tcp[=PORT]: every robot's base as a Pioneer speaking P2OS on
+  /// TCP, robot i on PORT + i (MobileSim's 8101 by default), its laser in
+  /// MobileSim's SIM packets; 0 picks free ports. -1: off.
+  int p2os_tcp_port = -1;
 };
 
 /// Parses argv. False with `error` (which names the bad argument); `help`

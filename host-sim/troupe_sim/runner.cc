@@ -26,6 +26,20 @@ uint64_t sim_clock_us(void* ctx) {
   return uint64_t(std::llround(static_cast<World*>(ctx)->time() * 1e6));
 }
 
+// Stage honours a world's `paused 1` in its GUI only, where a person can
+// resume; headless it runs. Here too: paused only when served.
+bool starts_paused(const SimOptions& options, const WorldDesc& d) {
+  if (!d.paused) return false;
+  if (!options.serve) {
+    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs", d.paused_at.c_str());
+    return false;
+  }
+  const std::string port = options.port == 0 ? "PORT" : std::to_string(options.port);
+  log_info("%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
+           d.paused_at.c_str(), options.listen.c_str(), port.c_str());
+  return true;
+}
+
 }  // namespace
 
 Runner::~Runner() {
@@ -60,7 +74,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   if (!start_emulation(error)) return false;
 
   const WorldDesc& d = world_->desc();
-  control_.paused = options.paused || d.paused;
+  control_.paused = options.paused || starts_paused(options, d);
   control_.speed = options.fast ? 0 : (options.speed >= 0 ? options.speed : std::max(0.0, d.speedup));
   control_.start_steps = [this](uint32_t n, RequestToken token) { queued_steps_.push_back({token, n, n}); };
   control_.reset = [this] { reset(); };
@@ -99,6 +113,15 @@ bool Runner::start_emulation(std::string& error) {
   for (const std::string& spec : options_.emulate) {
     if (!emulation_.add(*world_, spec, error)) return false;
   }
+  if (options_.p2os_tcp_port >= 0) {
+    if (!emulation_.empty()) {
+      error = "--p2os-tcp serves every robot's base already; it does not mix with --emulate";
+      return false;
+    }
+    if (!p2os_tcp_.open(*world_, options_.listen, options_.p2os_tcp_port, error)) return false;
+    emulation_wall_us_ = monotonic_us();
+    return true;
+  }
   if (emulation_.empty()) return true;
   if (!emulation_.open(options_.emulate_links, error)) return false;
   if (!options_.emulate_info.empty()) {
@@ -120,12 +143,13 @@ bool Runner::start_emulation(std::string& error) {
 }
 
 void Runner::step_emulation() {
-  if (emulation_.empty()) return;
+  if (emulation_.empty() && p2os_tcp_.empty()) return;
   const uint64_t now = monotonic_us();
   const bool real_time = !control_.paused && control_.speed > 0;
   emulation_clock_us_ += double(now - emulation_wall_us_) * (real_time ? control_.speed : 1.0);
   emulation_wall_us_ = now;
   emulation_.step(uint64_t(emulation_clock_us_));
+  p2os_tcp_.step(uint64_t(emulation_clock_us_));
 }
 
 uint16_t Runner::port() const {
@@ -140,7 +164,7 @@ void Runner::serve(int64_t wait_us) {
   // Emulated devices are stepped between polls: often enough that a driver's
   // request is answered within a few milliseconds, as hardware would.
   const int64_t kEmulationWaitUs = 4000;
-  if (!emulation_.empty()) wait_us = std::min(wait_us, kEmulationWaitUs);
+  if (!emulation_.empty() || !p2os_tcp_.empty()) wait_us = std::min(wait_us, kEmulationWaitUs);
   for (size_t i = 1; i < nodes_.size(); ++i) nodes_[i]->poll(0);
   nodes_.front()->poll(wait_us);
   step_emulation();

@@ -13,6 +13,7 @@
 #include "host-sim/sim/trajectory_log.h"
 #include "host-sim/sim/world.h"
 #include "host-sim/troupe_sim/emulation.h"
+#include "host-sim/troupe_sim/emulation_tcp.h"
 #include "host-sim/troupe_sim/options.h"
 #include "host-sim/troupe_sim/sim_server.h"
 #include "runtime/node.h"
@@ -45,6 +46,8 @@ class Runner {
   Node& node() { return *nodes_.front(); }
   /// The robots presented as hardware (--emulate).
   const Emulation& emulation() const { return emulation_; }
+  /// The robots served as Pioneers on TCP (--p2os-tcp).
+  const P2osTcp& p2os_tcp() const { return p2os_tcp_; }
 
  private:
   void step(uint32_t n);
@@ -67,6 +70,7 @@ class Runner {
   std::vector<std::unique_ptr<Node>> nodes_;
   std::vector<SimServer*> servers_;  // owned by their nodes
   Emulation emulation_;
+  P2osTcp p2os_tcp_;
   // The emulated devices' clock, us: it runs at the simulation's speed in
   // real-time mode (a SIP every 100 ms of simulated time) and at wall speed
   // while paused or running fast, so the devices keep answering their
