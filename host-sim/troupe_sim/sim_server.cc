@@ -9,10 +9,7 @@ namespace troupe::sim {
 using wire::ErrorCode;
 
 void SimServer::log_refused(const char* what, RobotId robot, const Pose& value) {
-  // Logged at the 1st, 2nd, 4th, 8th, ... refusal: a client that floods bad
-  // commands cannot flood the log.
-  ++refused_;
-  if ((refused_ & (refused_ - 1)) != 0) return;
+  if (!log_this_one(refused_)) return;
   log_warn("robot '%s': %s (%g, %g, %g) refused: not finite or out of range (%llu refused so far)",
            world_.robot(robot).name.c_str(), what, value.x, value.y, value.a,
            static_cast<unsigned long long>(refused_));

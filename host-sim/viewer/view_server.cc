@@ -53,12 +53,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       const OriginVerdict verdict = check_origin(field(req, http::field::host), field(req, http::field::origin),
                                                  server_->options.allow_origins, server_->machine_names);
       if (!verdict.allowed) {
-        // Logged at the 1st, 2nd, 4th, ... refusal: a page retrying in a
-        // loop cannot flood the log.
-        const uint64_t n = ++server_->refused_origins;
-        if ((n & (n - 1)) == 0) {
-          log_warn("viewer: WebSocket refused (%llu so far): %s", static_cast<unsigned long long>(n),
-                   verdict.why.c_str());
+        if (log_this_one(server_->refused_origins)) {
+          log_warn("viewer: WebSocket refused (%llu so far): %s",
+                   static_cast<unsigned long long>(server_->refused_origins), verdict.why.c_str());
         }
         return reply(req, http::status::forbidden, verdict.why + "\n");
       }

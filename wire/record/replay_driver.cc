@@ -89,10 +89,8 @@ bool ReplayDriver::read_data() {
     if (current_.message->header()->kind() != wire::Kind::Data) continue;
     bool jumped = false;
     current_play_us_ = clock_.next(current_.time_us, jumped);
-    if (!jumped || passes_ > 1) return true;
-    // Logged at the 1st, 2nd, 4th, ... jump of the first pass.
-    ++jumps_;
-    if ((jumps_ & (jumps_ - 1)) == 0) {
+    // Logged in the first pass only.
+    if (jumped && passes_ == 1 && log_this_one(jumps_)) {
       log_warn("%s: byte %llu: the record time jumps to %.6f s; playing on at once (a pause over %.0f s or "
                "a step back is not kept; %llu such jumps so far)",
                options_.path.c_str(), static_cast<unsigned long long>(current_.offset),
