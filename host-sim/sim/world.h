@@ -137,8 +137,8 @@ struct PowerView {
 };
 
 /// The farthest a teleport may put a robot from the origin on either axis,
-/// m. Grid and cell indices stay far inside int range at any resolution a
-/// world file accepts.
+/// m: a thousand kilometres, beyond any world, and at 1 mm cells still
+/// inside the int range the engine's grids index with.
 inline constexpr double kMaxCoordinate = 1e6;
 
 /// True when every value of `p` is finite.
