@@ -118,7 +118,8 @@ bool finite_pose(const Pose& p) {
 bool World::set_pose(RobotId id, const Pose& pose) {
   Engine& e = *e_;
   Body& b = e.bodies.at(id);
-  if (!finite_pose(pose) || std::abs(pose.x) > kMaxCoordinate || std::abs(pose.y) > kMaxCoordinate) return false;
+  if (!finite_pose(pose) || std::abs(pose.x) > kMaxCoordinate || std::abs(pose.y) > kMaxCoordinate)
+    return false;
   b.pose = {pose.x, pose.y, wrap_angle(pose.a)};
   b.proposed = b.pose;
   b.moved = false;

@@ -58,8 +58,9 @@ OriginVerdict check_origin(std::string_view host, std::string_view origin,
   }
   if (origin.empty()) return {true, {}};
   if (!same_text(trim_slash(origin), "http://" + std::string(host))) {
-    return {false, "a page from '" + std::string(origin) + "' may not use this viewer (its own pages are http://" +
-                       std::string(host) + "); --view-allow-origin ORIGIN accepts another"};
+    return {false, "a page from '" + std::string(origin) +
+                       "' may not use this viewer (its own pages are http://" + std::string(host) +
+                       "); --view-allow-origin ORIGIN accepts another"};
   }
   return {true, {}};
 }

@@ -50,8 +50,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     http::request<http::string_body> req = parser_->release();
     if (beast::websocket::is_upgrade(req)) {
       if (req.target() != "/ws") return reply(req, http::status::not_found, "WebSockets are served on /ws\n");
-      const OriginVerdict verdict = check_origin(field(req, http::field::host), field(req, http::field::origin),
-                                                 server_->options.allow_origins, server_->machine_names);
+      const OriginVerdict verdict =
+          check_origin(field(req, http::field::host), field(req, http::field::origin),
+                       server_->options.allow_origins, server_->machine_names);
       if (!verdict.allowed) {
         if (log_this_one(server_->refused_origins)) {
           log_warn("viewer: WebSocket refused (%llu so far): %s",

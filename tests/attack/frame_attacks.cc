@@ -107,8 +107,8 @@ bool latest_state(WirePeer& peer, wire::Pose2d& pose, wire::Pose2d& vel, int ms)
   while (auto f = peer.read_frame(got ? 0 : ms_left(deadline))) {
     const wire::Message* m = message(*f);
     const wire::Position2dState* s = m ? m->body_as_Position2dState() : nullptr;
-    if (m && m->header()->kind() == wire::Kind::Data && s && s->pose() && wire::address_key(m->header()->addr()) ==
-                                                                             wire::address_key(kPosition0)) {
+    if (m && m->header()->kind() == wire::Kind::Data && s && s->pose() &&
+        wire::address_key(m->header()->addr()) == wire::address_key(kPosition0)) {
       pose = *s->pose();
       vel = s->vel() ? *s->vel() : wire::Pose2d();
       got = true;
@@ -138,7 +138,8 @@ void malformed_frames(Target& t, int scale, Outcome& out) {
     const std::string kind = describe(k);
     // Well-formed FlatBuffers that the protocol does not allow.
     const wire::Body wrong = k == wire::Kind::Hello ? wire::Body::SimPoses : wire::Body::Hello;
-    refuse(f.with_body(kPosition0, k, 1, ++seq, wrong), kind + " with a " + wire::EnumNameBody(wrong) + " body");
+    refuse(f.with_body(kPosition0, k, 1, ++seq, wrong),
+           kind + " with a " + wire::EnumNameBody(wrong) + " body");
     refuse(f.bare(wire::Address(999, 999, 999), k, 1, ++seq), kind + " to a device that does not exist");
     if (k == wire::Kind::Request) refuse(f.bare(kPosition0, k, 250, ++seq), "a request with subtype 250");
     // Frames the verifier refuses: the root offset out of the buffer,
@@ -186,7 +187,8 @@ void add_requests_needing_bodies(TargetKind kind, Frames& f, uint32_t& seq, std:
     list.push_back({f.null_body(addr, wire::Kind::Request, sub, ++seq, type), what + " without its body"});
   };
   needs(kPosition0, uint8_t(wire::Position2dReqSub::MotorPower), wire::Body::Switch, "MotorPower");
-  needs(kPosition0, uint8_t(wire::Position2dReqSub::SetOdometry), wire::Body::Position2dSetOdom, "SetOdometry");
+  needs(kPosition0, uint8_t(wire::Position2dReqSub::SetOdometry), wire::Body::Position2dSetOdom,
+        "SetOdometry");
   if (kind == TargetKind::Sim) {
     needs(kSimulation, uint8_t(wire::SimulationReqSub::SetSpeed), wire::Body::SimSpeed, "SetSpeed");
     needs(kSimulation, uint8_t(wire::SimulationReqSub::SetPose), wire::Body::SimPose, "SetPose");
@@ -265,7 +267,8 @@ void non_finite_values(Target& t, int scale, Outcome& out) {
     for (float v : bad) {
       for (int field = 0; field < 3; ++field) {
         const float x = field == 0 ? v : 0.1f, y = field == 1 ? v : 0, a = field == 2 ? v : 0;
-        const std::string what = "(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(a) + ")";
+        const std::string what =
+            "(" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(a) + ")";
         peer.send(f.vel(kPosition0, x, y, a));
         peer.send(f.go_to(kPosition0, x, y, a));
         out.volume += 3;

@@ -46,7 +46,8 @@ Played play(const std::string& file, const std::string& dir) {
   const uint16_t port = testing::free_port();
   std::string error;
   // --wait: nothing plays before the client has opened the device.
-  if (!proc.start({program("troupe-play"), file, "--port", std::to_string(port), "--wait"}, dir, "play", error))
+  if (!proc.start({program("troupe-play"), file, "--port", std::to_string(port), "--wait"}, dir, "play",
+                  error))
     return p;
   // Listening soon, unless it refused the file and exited.
   const Deadline deadline = deadline_in(10000);
@@ -107,8 +108,8 @@ void corrupt_recordings(Target& t, int scale, Outcome& out) {
       case 1: {  // cut short
         const size_t keep = 1 + rng() % (bad.size() - 1);
         bad.resize(keep);
-        must_be_found = keep > record::kLogHeaderBytes &&
-                        std::find(starts.begin(), starts.end(), keep) == starts.end();
+        must_be_found =
+            keep > record::kLogHeaderBytes && std::find(starts.begin(), starts.end(), keep) == starts.end();
         damage = "cut at byte " + std::to_string(keep);
         break;
       }

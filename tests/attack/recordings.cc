@@ -13,16 +13,18 @@ bool write_recording(const std::string& path, const std::vector<uint64_t>& times
   {
     auto& b = w.start();
     auto hello = wire::CreateHello(b, wire::kProtocolVersion, b.CreateString("recorded"), 1u << 20);
-    if (!log.write(0, w.finish(wire::make_header({}, wire::Kind::Hello, 0, 0, 0), wire::Body::Hello, hello.Union()),
-                   error))
+    if (!log.write(
+            0, w.finish(wire::make_header({}, wire::Kind::Hello, 0, 0, 0), wire::Body::Hello, hello.Union()),
+            error))
       return false;
   }
   {
     auto& b = w.start();
     auto info = wire::CreateDeviceInfo(b, &pos, b.CreateString(""), b.CreateString("kinematic"));
     auto list = wire::CreateDeviceList(b, b.CreateVector(&info, 1));
-    if (!log.write(0, w.finish(wire::make_header({}, wire::Kind::DeviceList, 0, 1, 0), wire::Body::DeviceList,
-                               list.Union()),
+    if (!log.write(0,
+                   w.finish(wire::make_header({}, wire::Kind::DeviceList, 0, 1, 0), wire::Body::DeviceList,
+                            list.Union()),
                    error))
       return false;
   }

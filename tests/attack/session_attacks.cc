@@ -23,7 +23,8 @@ wire::Address busiest(const Target& t) {
 // Counts a lockout: the legitimate client not served within the bound.
 void legit_served_now(const Target& t, Outcome& out, int timeout_ms) {
   std::string why;
-  if (!served_eventually(t.port(), why, timeout_ms)) out.got_through("a legitimate client was locked out: " + why);
+  if (!served_eventually(t.port(), why, timeout_ms))
+    out.got_through("a legitimate client was locked out: " + why);
 }
 
 }  // namespace
@@ -157,8 +158,8 @@ void huge_step(Target& t, int scale, Outcome& out) {
   // and what it is told shows the step under way (neither before it
   // started nor after it ended).
   ++seq;
-  const uint64_t start = steps_in(other.ask(f.sim_request(seq, wire::SimulationReqSub::GetClock), seq, kReplyMs))
-                             .value_or(0);
+  const uint64_t start =
+      steps_in(other.ask(f.sim_request(seq, wire::SimulationReqSub::GetClock), seq, kReplyMs)).value_or(0);
   ++out.volume;
   attacker.send(f.sim_step(++seq, 1000000));
   bool answered_during = false;
@@ -170,7 +171,8 @@ void huge_step(Target& t, int scale, Outcome& out) {
     if (steps >= start + 1000000) break;  // the step ended before anyone else was served
     answered_during = steps > start;
   }
-  if (!answered_during) out.got_through("step 1000000 held the loop: another client was not served meanwhile");
+  if (!answered_during)
+    out.got_through("step 1000000 held the loop: another client was not served meanwhile");
 }
 
 }  // namespace troupe::attack

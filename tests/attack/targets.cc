@@ -89,14 +89,16 @@ bool Target::start(TargetKind kind, std::string& error) {
   switch (kind) {
     case TargetKind::Node:
       port_ = testing::free_port();
-      started = proc_.start({program("troupe-node"), std::string(TROUPE_SOURCE_DIR) + "/examples/nodes/kinematic.json",
-                             "--port", std::to_string(port_)},
-                            dir_, "target", error);
+      started = proc_.start(
+          {program("troupe-node"), std::string(TROUPE_SOURCE_DIR) + "/examples/nodes/kinematic.json",
+           "--port", std::to_string(port_)},
+          dir_, "target", error);
       break;
     case TargetKind::Sim: {
       const std::string world = dir_ + "/small.world";
       std::ofstream(world) << kSmallWorld;
-      started = proc_.start({program("troupe-sim"), world, "--port", "0", "--view", "0"}, dir_, "target", error);
+      started =
+          proc_.start({program("troupe-sim"), world, "--port", "0", "--view", "0"}, dir_, "target", error);
       if (started && !proc_.wait_for("viewer at ", false, kStartMs)) {
         error = "troupe-sim did not start: " + proc_.err();
         return false;

@@ -22,7 +22,8 @@ class PageThrower {
     if (!open_ && page_.handshake(port_, self_, "http://" + self_) != 101) return false;
     open_ = true;
     const uint32_t probe = 0xFFFF0000u + ++probes_;
-    if (!page_.send_message(payload, text) || !page_.send_message(f_.bare({}, wire::Kind::DeviceList, 0, probe))) {
+    if (!page_.send_message(payload, text) ||
+        !page_.send_message(f_.bare({}, wire::Kind::DeviceList, 0, probe))) {
       open_ = false;
       return false;
     }
@@ -83,9 +84,18 @@ void viewer_http(Target& t, int scale, Outcome& out) {
   out.unit = "requests";
   const uint16_t port = t.view_port();
   const std::vector<std::string> traversal = {
-      "/../../../../etc/passwd", "/..%2f..%2f..%2fetc%2fpasswd", "/%2e%2e/%2e%2e/etc/passwd", "//etc/passwd",
-      "/viewer.js/../../small.world", "/.%2e/small.world", "/..\\..\\etc\\passwd", "/%00index.html",
-      "http://127.0.0.1/../../etc/passwd", "/index.html%00.js", "/~/.bashrc", "/.git/config",
+      "/../../../../etc/passwd",
+      "/..%2f..%2f..%2fetc%2fpasswd",
+      "/%2e%2e/%2e%2e/etc/passwd",
+      "//etc/passwd",
+      "/viewer.js/../../small.world",
+      "/.%2e/small.world",
+      "/..\\..\\etc\\passwd",
+      "/%00index.html",
+      "http://127.0.0.1/../../etc/passwd",
+      "/index.html%00.js",
+      "/~/.bashrc",
+      "/.git/config",
   };
   for (int i = 0; i < 10 * scale; ++i) {
     for (const std::string& target : traversal) {
@@ -101,15 +111,18 @@ void viewer_http(Target& t, int scale, Outcome& out) {
     ++out.volume;
     std::string many = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n";
     for (int h = 0; h < 2000; ++h) many += "X-H" + std::to_string(h) + ": v\r\n";
-    if (http_exchange(port, many + "\r\n").status == 200) out.got_through("a request with 2000 headers was served");
+    if (http_exchange(port, many + "\r\n").status == 200)
+      out.got_through("a request with 2000 headers was served");
   }
   // Slowloris: partial requests held open while a legitimate visitor comes.
   std::vector<TcpSocket> held(size_t(50 * scale));
   const std::string partial = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
   for (TcpSocket& s : held) {
-    if (s.connect(port) && s.send({reinterpret_cast<const uint8_t*>(partial.data()), partial.size()})) ++out.volume;
+    if (s.connect(port) && s.send({reinterpret_cast<const uint8_t*>(partial.data()), partial.size()}))
+      ++out.volume;
   }
-  if (http_get(port, "/").status == 0) out.got_through("the page was not served while partial requests were held");
+  if (http_get(port, "/").status == 0)
+    out.got_through("the page was not served while partial requests were held");
 }
 
 void viewer_malformed_messages(Target& t, int scale, Outcome& out) {

@@ -19,7 +19,8 @@ size_t head_end(const std::string& s) {
 
 size_t content_length(const std::string& head) {
   std::string lower = head;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   const size_t at = lower.find("\r\ncontent-length:");
   return at == std::string::npos ? 0 : size_t(std::strtoul(lower.c_str() + at + 17, nullptr, 10));
 }

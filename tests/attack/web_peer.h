@@ -32,7 +32,8 @@ class WebPeer {
   /// Asks for the upgrade with these Host and Origin values (an empty
   /// Origin is left out). Returns the HTTP status: 101 when accepted; a
   /// refusal's body goes to `body`.
-  int handshake(uint16_t port, const std::string& host, const std::string& origin, std::string* body = nullptr);
+  int handshake(uint16_t port, const std::string& host, const std::string& origin,
+                std::string* body = nullptr);
   /// One binary message (`text`: a text message instead).
   bool send_message(const Bytes& payload, bool text = false);
   /// The next binary message's payload; nullopt when the server closed the

@@ -89,13 +89,15 @@ Bytes Frames::with_body(wire::Address addr, wire::Kind kind, uint8_t subtype, ui
 Bytes Frames::hello(uint32_t seq) {
   auto& b = w_.start();
   auto body = wire::CreateHello(b, wire::kProtocolVersion, b.CreateString("attack"), 1u << 20);
-  return take(w_.finish(wire::make_header({}, wire::Kind::Hello, 0, seq, 0), wire::Body::Hello, body.Union()));
+  return take(
+      w_.finish(wire::make_header({}, wire::Kind::Hello, 0, seq, 0), wire::Body::Hello, body.Union()));
 }
 
 Bytes Frames::open(wire::Address addr, uint32_t seq, wire::Access access, wire::Delivery delivery) {
   auto& b = w_.start();
   auto body = wire::CreateOpen(b, access, delivery);
-  return take(w_.finish(wire::make_header(addr, wire::Kind::Open, 0, seq, 0), wire::Body::Open, body.Union()));
+  return take(
+      w_.finish(wire::make_header(addr, wire::Kind::Open, 0, seq, 0), wire::Body::Open, body.Union()));
 }
 
 Bytes Frames::vel(wire::Address addr, float x, float y, float a) {
@@ -129,9 +131,9 @@ Bytes Frames::set_odometry(wire::Address addr, uint32_t seq, float x, float y, f
 Bytes Frames::sim_step(uint32_t seq, uint32_t steps) {
   auto& b = w_.start();
   auto body = wire::CreateSimStep(b, steps);
-  return take(
-      w_.finish(wire::make_header(kSimulation, wire::Kind::Request, uint8_t(wire::SimulationReqSub::Step), seq, 0),
-                wire::Body::SimStep, body.Union()));
+  return take(w_.finish(
+      wire::make_header(kSimulation, wire::Kind::Request, uint8_t(wire::SimulationReqSub::Step), seq, 0),
+      wire::Body::SimStep, body.Union()));
 }
 
 Bytes Frames::sim_speed(uint32_t seq, float speed) {

@@ -133,7 +133,8 @@ class RecordReplay : public ::testing::Test {
     Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
     EXPECT_TRUE(node.wait_listening(port)) << node.err();
     std::string log = file(name);
-    EXPECT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", std::to_string(count)}).rc, 0);
+    EXPECT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", std::to_string(count)}).rc,
+              0);
     EXPECT_EQ(node.stop(), 0);
     return log;
   }
@@ -299,13 +300,15 @@ TEST_F(RecordReplay, ATimeJumpIsReportedAndNotWaitedFor) {
   Outcome info = troupe({"play", log, "--info"});
   EXPECT_EQ(info.rc, 0);
   EXPECT_NE(info.out.find("jumps     2"), std::string::npos) << info.out;  // there and back
-  EXPECT_NE(info.out.find("jump      byte " + std::to_string(offsets[5]) + ": "), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("jump      byte " + std::to_string(offsets[5]) + ": "), std::string::npos)
+      << info.out;
   EXPECT_NE(info.out.find("status    complete"), std::string::npos) << info.out;
   EXPECT_EQ(info.out.find("duration  1099511"), std::string::npos) << info.out;
   // Played to its end, every frame, without waiting for the jump.
   std::string err;
   EXPECT_EQ(play(log, {"position2d:0"}, {}, &err), recorded);
-  EXPECT_NE(err.find("byte " + std::to_string(offsets[5]) + ": the record time jumps"), std::string::npos) << err;
+  EXPECT_NE(err.find("byte " + std::to_string(offsets[5]) + ": the record time jumps"), std::string::npos)
+      << err;
 }
 
 TEST_F(RecordReplay, RecordingGoesOnAcrossANodeRestart) {

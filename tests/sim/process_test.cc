@@ -29,7 +29,8 @@ std::string world(double quit_time) {
   return "resolution 0.05\ninterval_sim 100\nquit_time " + std::to_string(quit_time) +
          "\nmodel ( name \"room\" size [10.4 10.4] obstacle_return 1\n"
          "  block ( points 4 point[0] [0 0] point[1] [10.4 0] point[2] [10.4 0.2] point[3] [0 0.2] )\n"
-         "  block ( points 4 point[0] [0 10.2] point[1] [10.4 10.2] point[2] [10.4 10.4] point[3] [0 10.4] ) )\n"
+         "  block ( points 4 point[0] [0 10.2] point[1] [10.4 10.2] point[2] [10.4 10.4] point[3] [0 10.4] ) "
+         ")\n"
          "define bot position ( size [0.4 0.3] )\n"
          "bot ( name \"r0\" pose [0 0 0 0] )\nbot ( name \"r1\" pose [-3 2 0 90] )\n";
 }
@@ -42,7 +43,8 @@ class SimProcess : public ::testing::Test {
     const std::string path = dir_ + "/room.world";
     std::ofstream(path) << world(quit_time);
     std::string error;
-    ASSERT_TRUE(sim_.start({kBin + "troupe-sim", path, "--port", "0", "--no-view", "--paused"}, dir_, "sim", error))
+    ASSERT_TRUE(
+        sim_.start({kBin + "troupe-sim", path, "--port", "0", "--no-view", "--paused"}, dir_, "sim", error))
         << error;
     ASSERT_TRUE(sim_.wait_for("listening on 127.0.0.1:", false, kReplyMs)) << sim_.err();
     const std::string out = sim_.out();
@@ -171,7 +173,8 @@ TEST_F(SimProcess, SteppingPastTheQuitTimeEndsTheRunAndSaysSo) {
   EXPECT_NE(why.find("stopped after 5 of 100 steps"), std::string::npos) << why;
   EXPECT_NE(why.find("quit time (2 s)"), std::string::npos) << why;
   EXPECT_EQ(sim_.wait_exit(kReplyMs), 0) << sim_.err();
-  EXPECT_NE(sim_.err().find("quit time 2 s reached after 20 steps: the run ends"), std::string::npos) << sim_.err();
+  EXPECT_NE(sim_.err().find("quit time 2 s reached after 20 steps: the run ends"), std::string::npos)
+      << sim_.err();
 }
 
 }  // namespace

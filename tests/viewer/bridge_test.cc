@@ -324,7 +324,8 @@ TEST_F(BridgeTest, BadInputClosesOnlyThatPage) {
 // The status of a WebSocket handshake with these Host and Origin headers
 // (no Origin when empty), and the body of a refusal: a hand-made handshake,
 // as a hostile page's browser sends it.
-int handshake_status(uint16_t port, const std::string& host, const std::string& origin, std::string* body = nullptr) {
+int handshake_status(uint16_t port, const std::string& host, const std::string& origin,
+                     std::string* body = nullptr) {
   attack::WebPeer page;
   return page.handshake(port, host, origin, body);
 }

@@ -51,7 +51,8 @@ TEST(OriginCheck, ReboundNamesAreRefused) {
     EXPECT_FALSE(v.allowed) << host;
     EXPECT_FALSE(check_origin(host, "", kNone, kMachine).allowed) << host;
   }
-  EXPECT_NE(check_origin("evil.example:6680", "", kNone, kMachine).why.find("DNS rebinding"), std::string::npos);
+  EXPECT_NE(check_origin("evil.example:6680", "", kNone, kMachine).why.find("DNS rebinding"),
+            std::string::npos);
 }
 
 TEST(OriginCheck, AnAllowedOriginIsAcceptedWhateverTheHost) {

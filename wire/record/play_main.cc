@@ -230,8 +230,8 @@ int main(int argc, char** argv) {
   StopWatch stop(node, signals);
   troupe::log_info("playing %s (%llu frames of %zu devices, %.1f s) at speed %g on %s:%u",
                    replay.path.c_str(), static_cast<unsigned long long>(summary.data_records), devices.size(),
-                   double(summary.play_us) * 1e-6, replay.speed,
-                   node_options.listen.c_str(), unsigned(node.port()));
+                   double(summary.play_us) * 1e-6, replay.speed, node_options.listen.c_str(),
+                   unsigned(node.port()));
   uint64_t drain_until = 0;
   while (!node.loop().stopped()) {
     node.poll(100000);

@@ -91,11 +91,12 @@ bool ReplayDriver::read_data() {
     current_play_us_ = clock_.next(current_.time_us, jumped);
     // Logged in the first pass only.
     if (jumped && passes_ == 1 && log_this_one(jumps_)) {
-      log_warn("%s: byte %llu: the record time jumps to %.6f s; playing on at once (a pause over %.0f s or "
-               "a step back is not kept; %llu such jumps so far)",
-               options_.path.c_str(), static_cast<unsigned long long>(current_.offset),
-               double(current_.time_us) * 1e-6, double(options_.max_gap_us) * 1e-6,
-               static_cast<unsigned long long>(jumps_));
+      log_warn(
+          "%s: byte %llu: the record time jumps to %.6f s; playing on at once (a pause over %.0f s or "
+          "a step back is not kept; %llu such jumps so far)",
+          options_.path.c_str(), static_cast<unsigned long long>(current_.offset),
+          double(current_.time_us) * 1e-6, double(options_.max_gap_us) * 1e-6,
+          static_cast<unsigned long long>(jumps_));
     }
     return true;
   }

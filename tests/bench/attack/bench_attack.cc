@@ -40,7 +40,9 @@ int main(int argc, char** argv) {
     files.rlim_cur = files.rlim_max;
     setrlimit(RLIMIT_NOFILE, &files);
   }
-  std::printf("| attack | target | volume | survived | let in | served after | RSS before / after (KiB) | fds before / after | time (s) |\n");
+  std::printf(
+      "| attack | target | volume | survived | let in | served after | RSS before / after (KiB) | fds before "
+      "/ after | time (s) |\n");
   std::printf("|---|---|---:|---|---:|---|---:|---:|---:|\n");
   int failures = 0;
   for (const Attack& a : attacks()) {
