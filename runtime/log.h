@@ -2,6 +2,8 @@
 // pulls in no stream library.
 #pragma once
 
+#include <cstdint>
+
 namespace troupe {
 
 enum class LogLevel { Error = 0, Warn = 1, Info = 2, Debug = 3 };
@@ -17,5 +19,13 @@ void log_error(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 void log_warn(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 void log_info(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 void log_debug(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/// For a message anyone can make a program repeat at will (a refused
+/// input): counts one more in `count` and says whether to log this one,
+/// the 1st, 2nd, 4th, 8th, ..., so a flood writes a few dozen lines.
+inline bool log_this_one(uint64_t& count) {
+  ++count;
+  return (count & (count - 1)) == 0;
+}
 
 }  // namespace troupe

@@ -1,5 +1,6 @@
 #include "host-sim/sim/controller_host.h"
 
+#include <cstdio>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -28,7 +29,15 @@ class WorldRobot final : public RobotHandle {
   void want(SensorKind kind, uint32_t k, bool wanted) override {
     w_.set_wanted({kind, index(kind, k)}, wanted);
   }
-  void command(const Command& cmd) override { w_.command(id_, cmd); }
+  // A controller computing NaN or infinity is broken: it is stopped as one
+  // that throws is (update() catches this), and its robot stops.
+  void command(const Command& cmd) override {
+    if (w_.command(id_, cmd)) return;
+    char what[128];
+    std::snprintf(what, sizeof what, "non-finite command (%g, %g, %g) refused", cmd.value.x, cmd.value.y,
+                  cmd.value.a);
+    throw std::invalid_argument(what);
+  }
   double uniform(uint64_t k) const override {
     return w_.random().uniform(Random::stream(uint64_t(RandomKind::Controller), id_, w_.steps()), k);
   }

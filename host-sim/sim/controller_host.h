@@ -39,8 +39,9 @@ class ControllerHost {
   /// profile's "controllers" phase.
   void update(World& world);
 
-  /// Messages about controllers that threw and were stopped since the last
-  /// call (their robots are told to stop; the rest run on).
+  /// Messages about controllers that threw or sent a non-finite command
+  /// and were stopped since the last call (their robots are told to stop;
+  /// the rest run on).
   std::vector<std::string> take_errors();
 
   size_t size() const { return entries_.size(); }

@@ -1,5 +1,6 @@
 #include "host-sim/sim/world.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "host-sim/sim/engine.h"
@@ -110,9 +111,15 @@ const RobotState& World::state(RobotId id) const {
   return e_->states.at(id);
 }
 
-void World::set_pose(RobotId id, const Pose& pose) {
+bool finite_pose(const Pose& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.a);
+}
+
+bool World::set_pose(RobotId id, const Pose& pose) {
   Engine& e = *e_;
   Body& b = e.bodies.at(id);
+  if (!finite_pose(pose) || std::abs(pose.x) > kMaxCoordinate || std::abs(pose.y) > kMaxCoordinate)
+    return false;
   b.pose = {pose.x, pose.y, wrap_angle(pose.a)};
   b.proposed = b.pose;
   b.moved = false;
@@ -121,15 +128,20 @@ void World::set_pose(RobotId id, const Pose& pose) {
     e.odom[id].estimate = relative(e.odom[id].origin, b.pose);
   e.publish_states();
   e.broadphase();
+  return true;
 }
 
-void World::command(RobotId id, const Command& cmd) {
-  e_->bodies.at(id).cmd = cmd;
+bool World::command(RobotId id, const Command& cmd) {
+  Body& b = e_->bodies.at(id);
+  if (!finite_pose(cmd.value)) return false;
+  b.cmd = cmd;
+  return true;
 }
 
-void World::set_odometry(RobotId id, const Pose& pose) {
+bool World::set_odometry(RobotId id, const Pose& pose) {
   Engine& e = *e_;
   Odometry& o = e.odom.at(id);
+  if (!finite_pose(pose)) return false;
   o.estimate = pose;
   // The odometry frame that puts the robot at `pose`.
   const Pose& p = e.bodies[id].pose;
@@ -137,6 +149,7 @@ void World::set_odometry(RobotId id, const Pose& pose) {
   const double c = std::cos(a), s = std::sin(a);
   o.origin = {p.x - (c * pose.x - s * pose.y), p.y - (s * pose.x + c * pose.y), a};
   e.publish_states();
+  return true;
 }
 
 PowerView World::power(RobotId id) const {

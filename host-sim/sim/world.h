@@ -136,6 +136,14 @@ struct PowerView {
   double watts = 0;     // W drawn in the last step
 };
 
+/// The farthest a teleport may put a robot from the origin on either axis,
+/// m: a thousand kilometres, beyond any world, and at 1 mm cells still
+/// inside the int range the engine's grids index with.
+inline constexpr double kMaxCoordinate = 1e6;
+
+/// True when every value of `p` is finite.
+bool finite_pose(const Pose& p);
+
 class World {
  public:
   /// Builds a world. `random` is the run's only source of randomness.
@@ -173,13 +181,20 @@ class World {
   const RobotInfo& robot(RobotId id) const;
   std::optional<RobotId> find_robot(std::string_view name) const;
   const RobotState& state(RobotId id) const;
-  /// Teleports a robot (ground truth, world frame). Its odometry follows in
-  /// gps mode and keeps its estimate in odom mode, as a real robot's would.
-  void set_pose(RobotId id, const Pose& pose);
-  /// Replaces the robot's command (held until the next one).
-  void command(RobotId id, const Command& cmd);
-  /// Restarts odometry at `pose` (odometry frame).
-  void set_odometry(RobotId id, const Pose& pose);
+  // The three inputs below come from the wire, controllers and emulators.
+  // Each refuses (returns false, changes nothing) a value the engine cannot
+  // step: not finite, or a position beyond kMaxCoordinate. Callers say so;
+  // the world never holds a NaN.
+
+  /// Teleports a robot (ground truth, world frame; |x|, |y| at most
+  /// kMaxCoordinate m). Its odometry follows in gps mode and keeps its
+  /// estimate in odom mode, as a real robot's would.
+  bool set_pose(RobotId id, const Pose& pose);
+  /// Replaces the robot's command (held until the next one); every value
+  /// finite.
+  bool command(RobotId id, const Command& cmd);
+  /// Restarts odometry at `pose` (odometry frame; finite).
+  bool set_odometry(RobotId id, const Pose& pose);
   PowerView power(RobotId id) const;
 
   // ---- Sensors ---------------------------------------------------------------

@@ -27,6 +27,12 @@ void run_paced(SimControl& control, const std::atomic<bool>& stop, const LoopPar
   bool anchored = false;
   while (!stop) {
     if (parts.done && parts.done()) break;
+    if (parts.slice && parts.slice()) {
+      anchored = false;
+      parts.serve(0);
+      if (after_step) after_step();
+      continue;
+    }
     if (control.paused) {
       anchored = false;
       parts.serve(kMaxWaitUs);

@@ -24,6 +24,10 @@ struct LoopParts {
   /// True when the run is over (a quit time, the game's end); checked
   /// before every step. May be empty.
   std::function<bool()> done;
+  /// Work the loop runs ahead of paced steps, one bounded slice per call
+  /// (troupe-sim's queued Step requests); true when there was some. The
+  /// real-time pacing starts afresh after it. May be empty.
+  std::function<bool()> slice;
 };
 
 /// The network is answered at least this often, us.

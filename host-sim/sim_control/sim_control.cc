@@ -5,8 +5,9 @@
 namespace troupe::sim {
 namespace {
 
-// A Step request runs its steps before the Ack: a bound keeps one request
-// from holding the loop for hours.
+// One Step request runs at most this many steps: with start_steps the loop
+// serves every client meanwhile, and the request's deadline (the node's
+// request timeout) ends it anyway, but the number stays bounded either way.
 constexpr uint32_t kMaxStepsAtOnce = 1000000;
 
 }  // namespace
@@ -35,6 +36,7 @@ void answer_clock_request(Node& node, SimControl& control, const wire::Message& 
       const uint32_t n = s ? s->steps() : 1;
       if (n > kMaxStepsAtOnce)
         return node.nack(token, wire::ErrorCode::BadArgument, "at most 1000000 steps at once");
+      if (control.start_steps) return control.start_steps(n, token);
       if (control.step) control.step(n);
       break;
     }

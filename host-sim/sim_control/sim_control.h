@@ -20,8 +20,12 @@ struct SimControl {
   /// is known).
   double real_time_factor = 0;
   /// Runs n steps now (the loop's whole step: world, controllers,
-  /// publishing), for the Step request.
+  /// publishing), for the Step request, which is acked once they ran.
   std::function<void(uint32_t)> step;
+  /// When set, a Step request is handed to the loop instead of `step`: the
+  /// loop runs the n steps in slices, serving every client between them,
+  /// and answers `token` itself (ack_clock) after the last one.
+  std::function<void(uint32_t n, RequestToken token)> start_steps;
   /// Every model back to its start, for the Reset request (troupe-sim; a
   /// simulator that resets by itself leaves it empty).
   std::function<void()> reset;
@@ -40,7 +44,8 @@ void ack_clock(Node& node, const SimControl& control, RequestToken token, SimTim
 
 /// Answers `req` when it is Pause, Resume, GetClock, Step or SetSpeed (a bad
 /// Step count or speed gets a Nack saying why); `clock` is read after the
-/// request took effect. Other requests get a Nack: the caller answers those.
+/// request took effect. A Step handed to `control.start_steps` is answered
+/// later by the loop. Other requests get a Nack: the caller answers those.
 void answer_clock_request(Node& node, SimControl& control, const wire::Message& req, RequestToken token,
                           const std::function<SimTime()>& clock);
 

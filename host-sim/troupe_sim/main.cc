@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
     vo.node_host = any ? "127.0.0.1" : options.listen;
     vo.node_port = node_port;
     vo.web_root = troupe::viewer::default_web_root();
+    vo.allow_origins = options.view_allow_origins;
     viewer = std::make_unique<troupe::viewer::ViewServer>(vo);
     if (!viewer->open(error)) {
       viewer.reset();

@@ -29,6 +29,9 @@ const char* sim_usage() {
          "  --view [P]              browser viewer on HTTP port P (default 6680; 0: any free\n"
          "                          port); on by default, its URL is printed\n"
          "  --view-listen ADDR      address the viewer listens on (default 127.0.0.1)\n"
+         "  --view-allow-origin O   also accept the viewer's WebSocket from pages of origin O\n"
+         "                          (http://host:port; repeatable); by default only the page\n"
+         "                          it served itself, under an address or this machine's name\n"
          "  --no-view               no browser viewer\n"
          "  --snapshot FILE.png     picture of the world at the end\n"
          "  --snapshot-every S      ... and every S simulated seconds\n"
@@ -54,6 +57,10 @@ const char* sim_usage() {
          "                          laser in MobileSim's laser packets; unchanged ARIA\n"
          "                          programs connect to it (printed as lines ROBOT p2os-tcp\n"
          "                          HOST:PORT)\n"
+         "\n"
+         "exit status: 0 when the run reached its quit time (also when a client's Step\n"
+         "request got there; the log says so) or was stopped by SIGINT/SIGTERM; 1 when the\n"
+         "world, a controller, the snapshot or the log failed; 2 on a bad command line.\n"
          "\n"
          "examples:\n"
          "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
@@ -151,6 +158,9 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
       if (!value(t)) return false;
       out.view_listen = t;
       out.view = out.view_asked = true;
+    } else if (a == "--view-allow-origin") {
+      if (!value(t)) return false;
+      out.view_allow_origins.push_back(t);
     } else if (a == "--listen") {
       if (!value(t)) return false;
       out.listen = t;

@@ -32,6 +32,9 @@ struct SimOptions {
   /// Viewer HTTP port; 0 picks a free one (printed).
   uint16_t view_port = 6680;
   std::string view_listen = "127.0.0.1";
+  /// Page origins ("http://host:port") whose WebSockets the viewer accepts
+  /// besides its own (see viewer::ViewOptions::allow_origins).
+  std::vector<std::string> view_allow_origins;
   std::string snapshot;       // PNG written at the end (and every snapshot_every s)
   double snapshot_every = 0;  // s of simulated time; 0: only at the end
   std::string log;            // trajectory CSV

@@ -14,6 +14,14 @@
 namespace troupe::sim {
 namespace {
 
+// A Step request's steps run in slices of about this much wall time, with
+// every client served between two slices.
+constexpr uint64_t kStepSliceUs = 10000;
+// troupe-sim answers every request at once except Step, which is answered
+// once its steps ran: its deadline is the Step's, as long as the clients'
+// own wait for a Step (the C++ and Python clients wait 60 s).
+constexpr uint32_t kRequestTimeoutMs = 60000;
+
 uint64_t sim_clock_us(void* ctx) {
   return uint64_t(std::llround(static_cast<World*>(ctx)->time() * 1e6));
 }
@@ -56,7 +64,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   const WorldDesc& d = world_->desc();
   control_.paused = options.paused || starts_paused(options, d);
   control_.speed = options.fast ? 0 : (options.speed >= 0 ? options.speed : std::max(0.0, d.speedup));
-  control_.step = [this](uint32_t n) { step(n); };
+  control_.start_steps = [this](uint32_t n, RequestToken token) { queued_steps_.push_back({token, n, n}); };
   control_.reset = [this] { reset(); };
   quit_time_ = options.quit_time >= 0 ? options.quit_time : d.quit_time;
   next_snapshot_ = options.snapshot_every;
@@ -69,6 +77,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     no.listen = options.listen;
     no.port = options.port == 0 ? 0 : uint16_t(options.port + (i + 1));
     no.max_clients = uint16_t(std::min<size_t>(4096, 64 + 2 * world_->robot_count()));
+    no.request_timeout_ms = kRequestTimeoutMs;
     auto node = std::make_unique<Node>(no);
     node->set_clock(sim_clock_us, world_.get());
     auto server = std::make_unique<SimServer>(*world_, control_, i);
@@ -157,6 +166,41 @@ void Runner::serve(int64_t wait_us) {
   }
 }
 
+bool Runner::quit_time_reached() const {
+  return quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_;
+}
+
+void Runner::run_step_slice() {
+  const uint64_t until = monotonic_us() + kStepSliceUs;
+  while (!queued_steps_.empty() && !stop_) {
+    QueuedSteps& q = queued_steps_.front();
+    if (node().request_device(q.token) == kNoDevice) {
+      // The node answered it Timeout: its client has given up waiting.
+      log_warn("simulation:0: a Step of %u steps stopped after %u: its deadline (%u s) passed", q.asked,
+               q.asked - q.left, kRequestTimeoutMs / 1000);
+      queued_steps_.pop_front();
+      continue;
+    }
+    if (q.left == 0) {
+      ack_clock(node(), control_, q.token, {world_->time(), world_->steps()});
+      queued_steps_.pop_front();
+      continue;
+    }
+    if (quit_time_reached() || monotonic_us() >= until) return;
+    step(1);
+    --q.left;
+  }
+}
+
+void Runner::refuse_queued_steps(const std::string& why) {
+  for (const QueuedSteps& q : queued_steps_) {
+    node().nack(q.token, wire::ErrorCode::BadArgument,
+                "stopped after " + std::to_string(q.asked - q.left) + " of " + std::to_string(q.asked) +
+                    " steps: " + why);
+  }
+  queued_steps_.clear();
+}
+
 void Runner::step(uint32_t n) {
   for (uint32_t i = 0; i < n && !stop_; ++i) {
     for (SimServer* s : servers_) s->sync_wanted();
@@ -202,9 +246,23 @@ int Runner::run() {
   parts.time_s = [this] { return world_->time(); };
   parts.serve = [this](int64_t wait_us) { serve(wait_us); };
   parts.step = [this] { step(1); };
-  parts.done = [this] { return quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_; };
+  parts.done = [this] { return quit_time_reached(); };
+  parts.slice = [this] {
+    if (queued_steps_.empty()) return false;
+    run_step_slice();
+    return true;
+  };
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
   progress(true);
+  if (quit_time_reached()) {
+    char why[96];
+    std::snprintf(why, sizeof why, "the world's quit time (%g s) was reached: troupe-sim ends", quit_time_);
+    refuse_queued_steps(why);
+    log_info("quit time %g s reached after %llu steps: the run ends", quit_time_,
+             static_cast<unsigned long long>(world_->steps()));
+  } else {
+    refuse_queued_steps("troupe-sim is stopping");
+  }
   if (!options_.snapshot.empty()) {
     std::string err;
     if (!write_snapshot(*world_, options_.snapshot, err)) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,7 +32,9 @@ class Runner {
   /// with the world file go to `diags` (file:line); others to `error`.
   bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error);
   /// Runs until the quit time, request_stop(), or a fatal problem. Returns
-  /// the process exit code.
+  /// the process exit code: 0 when the run reached its quit time (however
+  /// it got there, a client's Step included) or was asked to stop, 1 when
+  /// the snapshot or the trajectory log could not be written.
   int run();
   /// Safe from any thread or a signal watcher.
   void request_stop() { stop_ = true; }
@@ -49,6 +52,12 @@ class Runner {
 
  private:
   void step(uint32_t n);
+  /// Runs queued Step requests for one slice of wall time, acking each
+  /// once its steps ran.
+  void run_step_slice();
+  /// Answers every queued Step request with a Nack saying `why`.
+  void refuse_queued_steps(const std::string& why);
+  bool quit_time_reached() const;
   void serve(int64_t wait_us);
   void progress(bool final);
   void reset();
@@ -71,6 +80,13 @@ class Runner {
   uint64_t emulation_wall_us_ = 0;
   TrajectoryLog log_;
   double quit_time_ = 0;
+  // simulation:0 Step requests, oldest first, run in slices between polls.
+  struct QueuedSteps {
+    RequestToken token;
+    uint32_t asked = 0;
+    uint32_t left = 0;
+  };
+  std::deque<QueuedSteps> queued_steps_;
   double next_snapshot_ = 0;
   std::atomic<bool> stop_{false};
   RateMeter rate_;

@@ -2,9 +2,18 @@
 
 #include <cmath>
 
+#include "runtime/log.h"
+
 namespace troupe::sim {
 
 using wire::ErrorCode;
+
+void SimServer::log_refused(const char* what, RobotId robot, const Pose& value) {
+  if (!log_this_one(refused_)) return;
+  log_warn("robot '%s': %s (%g, %g, %g) refused: not finite or out of range (%llu refused so far)",
+           world_.robot(robot).name.c_str(), what, value.x, value.y, value.a,
+           static_cast<unsigned long long>(refused_));
+}
 
 SimServer::SimServer(World& world, SimControl& control, int only)
     : world_(world), control_(control), only_(only) {}
@@ -102,10 +111,18 @@ bool SimServer::sync_wanted() {
 void SimServer::on_command(DeviceId id, const wire::Message& cmd) {
   const Device* d = find(id);
   if (d == nullptr || d->kind != Kind::Position || !d->motors_on) return;
+  Command c;
   if (const wire::Position2dVel* v = cmd.body_as_Position2dVel(); v && v->vel()) {
-    world_.command(d->robot, Command::velocity(v->vel()->x(), v->vel()->y(), v->vel()->a()));
+    c = Command::velocity(v->vel()->x(), v->vel()->y(), v->vel()->a());
   } else if (const wire::Position2dGoto* g = cmd.body_as_Position2dGoto(); g && g->pose()) {
-    world_.command(d->robot, Command::go_to(g->pose()->x(), g->pose()->y(), g->pose()->a()));
+    c = Command::go_to(g->pose()->x(), g->pose()->y(), g->pose()->a());
+  } else {
+    return;
+  }
+  // The node refuses non-finite fields before they get here; this guards
+  // every other way in.
+  if (!world_.command(d->robot, c)) {
+    log_refused(c.mode == CommandMode::Velocity ? "velocity command" : "goto command", d->robot, c.value);
   }
 }
 
@@ -182,7 +199,11 @@ void SimServer::position_request(Device& d, const wire::Message& req, RequestTok
       const wire::Position2dSetOdom* set = req.body_as_Position2dSetOdom();
       if (set == nullptr || set->pose() == nullptr)
         return node_->nack(token, ErrorCode::BadArgument, "needs a pose");
-      world_.set_odometry(d.robot, {set->pose()->x(), set->pose()->y(), set->pose()->a()});
+      const Pose pose{set->pose()->x(), set->pose()->y(), set->pose()->a()};
+      if (!world_.set_odometry(d.robot, pose)) {
+        log_refused("odometry", d.robot, pose);
+        return node_->nack(token, ErrorCode::BadArgument, "the odometry pose must be finite");
+      }
       return node_->ack(token);
     }
     case Sub::ResetOdometry:
@@ -252,7 +273,11 @@ bool SimServer::get_pose(const std::string& name, Pose& pose, bool& has_velocity
 
 bool SimServer::set_pose(const std::string& name, const Pose& pose, const Pose*, std::string& error) {
   if (auto robot = world_.find_robot(name)) {
-    world_.set_pose(*robot, pose);
+    if (!world_.set_pose(*robot, pose)) {
+      log_refused("teleport", *robot, pose);
+      error = "the pose must be finite, |x| and |y| at most 1e6 m";
+      return false;
+    }
     world_.refresh_sensors();
     return true;
   }

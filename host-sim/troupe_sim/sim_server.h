@@ -69,6 +69,8 @@ class SimServer final : public Driver, private SimulationModels {
   void position_request(Device& d, const wire::Message& request, RequestToken token);
   void ranger_request(const Device& d, const wire::Message& request, RequestToken token);
   void map_request(const Device& d, const wire::Message& request, RequestToken token);
+  /// Logs a command, teleport or odometry reset the world refused.
+  void log_refused(const char* what, RobotId robot, const Pose& value);
 
   World& world_;
   SimControl& control_;
@@ -78,6 +80,7 @@ class SimServer final : public Driver, private SimulationModels {
   std::vector<uint16_t> scratch_ranges_;
   std::vector<wire::Pose2d> scratch_poses_;
   std::vector<uint8_t> scratch_cells_;
+  uint64_t refused_ = 0;  // inputs the world refused, for log_refused()
 };
 
 }  // namespace troupe::sim

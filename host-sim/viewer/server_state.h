@@ -4,6 +4,8 @@
 
 #include <boost/asio/ip/tcp.hpp>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "host-sim/viewer/view_server.h"
 
@@ -15,6 +17,10 @@ struct ServerState {
   boost::asio::ip::tcp::resolver::results_type node;
   /// WebSockets open now.
   uint32_t sessions = 0;
+  /// This machine's names, which a page's Host may use (origin_check.h).
+  std::vector<std::string> machine_names;
+  /// WebSocket handshakes refused for their Origin or Host so far.
+  uint64_t refused_origins = 0;
 };
 
 }  // namespace troupe::viewer

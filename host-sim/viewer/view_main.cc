@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   std::string node;
   auto app = troupe::cli::make_app(
       "troupe view",
-      {"troupe view HOST[:PORT] [--http-port P] [--listen ADDR] [--root DIR]",
+      {"troupe view HOST[:PORT] [--http-port P] [--listen ADDR] [--root DIR] [--allow-origin O]...",
        "Serves the browser viewer bridged to the node at HOST[:PORT] (default port 6665)\n"
        "and prints its URL. The page shows the node's devices: laser scans, odometry\n"
        "trails, the map of a map device; with troupe-sim, the whole world.\n",
@@ -30,6 +30,11 @@ int main(int argc, char** argv) {
   app->add_option("--root", options.web_root,
                   "folder with the page's files (default: ../share/troupe/viewer beside this program)")
       ->type_name("DIR");
+  app->add_option("--allow-origin", options.allow_origins,
+                  "also accept WebSockets from pages of origin O (http://host:port; repeatable); by\n"
+                  "default only the page it served itself, under an address or this machine's name")
+      ->type_name("O")
+      ->allow_extra_args(false);
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   troupe::wire::HostPort hp;
   std::string error;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "host-sim/viewer/bridge_session.h"
+#include "host-sim/viewer/origin_check.h"
 #include "host-sim/viewer/server_state.h"
 #include "host-sim/viewer/web_files.h"
 #include "runtime/log.h"
@@ -49,6 +50,16 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     http::request<http::string_body> req = parser_->release();
     if (beast::websocket::is_upgrade(req)) {
       if (req.target() != "/ws") return reply(req, http::status::not_found, "WebSockets are served on /ws\n");
+      const OriginVerdict verdict =
+          check_origin(field(req, http::field::host), field(req, http::field::origin),
+                       server_->options.allow_origins, server_->machine_names);
+      if (!verdict.allowed) {
+        if (log_this_one(server_->refused_origins)) {
+          log_warn("viewer: WebSocket refused (%llu so far): %s",
+                   static_cast<unsigned long long>(server_->refused_origins), verdict.why.c_str());
+        }
+        return reply(req, http::status::forbidden, verdict.why + "\n");
+      }
       if (server_->sessions >= server_->options.max_sessions) {
         return reply(req, http::status::service_unavailable, "too many viewers connected\n");
       }
@@ -75,6 +86,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     std::ostringstream body;
     body << in.rdbuf();
     reply(req, http::status::ok, body.str(), content_type(name));
+  }
+
+  static std::string_view field(const http::request<http::string_body>& req, http::field f) {
+    const auto it = req.find(f);
+    return it == req.end() ? std::string_view() : std::string_view(it->value().data(), it->value().size());
   }
 
   void reply(const http::request<http::string_body>& req, http::status status, std::string body,
@@ -129,6 +145,7 @@ std::string default_web_root() {
 
 ViewServer::ViewServer(ViewOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->state->options = std::move(options);
+  impl_->state->machine_names = this_machine_names();
 }
 
 ViewServer::~ViewServer() {

@@ -2,7 +2,8 @@
 // WebSocket bridge to a node's TCP port. The page speaks the wire protocol
 // itself: one binary WebSocket message is one frame (prefix included), and
 // each WebSocket gets its own TCP connection to the node, so the node sees
-// the page as one more client. Frames from the page are verified on the way
+// the page as one more client. Only the viewer's own page may open one
+// (origin_check.h). Frames from the page are verified on the way
 // in; a bad one closes that WebSocket (code 1007, the reason in the close
 // frame) and nothing else.
 //
@@ -15,6 +16,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "wire/frame.h"
 
@@ -34,6 +36,10 @@ struct ViewOptions {
   wire::Limits limits;
   /// Open WebSockets at once; more are refused with HTTP 503.
   uint32_t max_sessions = 32;
+  /// Page origins ("http://robots.lab:8080") whose WebSockets are accepted
+  /// besides the viewer's own page; every other is refused with HTTP 403
+  /// (origin_check.h).
+  std::vector<std::string> allow_origins;
 };
 
 /// The folder holding the page's files, found from this executable's place

@@ -219,5 +219,56 @@ TEST_F(LogFile, SummaryCountsTheValidPart) {
   EXPECT_NE(s.problem.find("byte " + std::to_string(offsets[4])), std::string::npos) << s.problem;
 }
 
+TEST(PlayClock, KeepsPausesAndDropsJumps) {
+  PlayClock clock(60'000'000);
+  bool jumped = true;
+  EXPECT_EQ(clock.next(5'000'000, jumped), 0u);  // the first record plays at once
+  EXPECT_FALSE(jumped);
+  EXPECT_EQ(clock.next(5'100'000, jumped), 100'000u);
+  EXPECT_FALSE(jumped);
+  EXPECT_EQ(clock.next(65'100'000, jumped), 60'100'000u);  // a pause of exactly the limit is kept
+  EXPECT_FALSE(jumped);
+  EXPECT_EQ(clock.next(uint64_t(1) << 40, jumped), 60'100'000u);  // forward past the limit: not kept
+  EXPECT_TRUE(jumped);
+  EXPECT_EQ(clock.next((uint64_t(1) << 40) + 10'000, jumped), 60'110'000u);  // the pace goes on from there
+  EXPECT_FALSE(jumped);
+  EXPECT_EQ(clock.next(1'000, jumped), 60'110'000u);  // back: not kept either
+  EXPECT_TRUE(jumped);
+  EXPECT_EQ(clock.next(UINT64_MAX, jumped), 60'110'000u);
+  EXPECT_TRUE(jumped);
+  clock.restart();
+  EXPECT_EQ(clock.next(7, jumped), 0u);
+  EXPECT_FALSE(jumped);
+}
+
+TEST_F(LogFile, SummaryReportsTimeJumpsWithTheirOffsets) {
+  LogWriter w;
+  std::string error;
+  ASSERT_TRUE(w.open(path_, 1700000000000000ull, error)) << error;
+  const uint64_t far = uint64_t(1) << 40;
+  const std::vector<uint64_t> times = {0, 100000, far, far + 100000, 300000, 400000};
+  std::vector<uint64_t> offsets;
+  for (size_t i = 0; i < times.size(); ++i) {
+    offsets.push_back(w.bytes());
+    ASSERT_TRUE(w.write(times[i], data_frame(uint32_t(i + 1), float(i)), error)) << error;
+  }
+  ASSERT_TRUE(w.close(error)) << error;
+  LogSummary s;
+  ASSERT_TRUE(summarize_log(path_, s, error)) << error;
+  EXPECT_EQ(s.problem, "");  // nothing is corrupt: the times are just not kept
+  ASSERT_EQ(s.jump_count, 2u);
+  ASSERT_EQ(s.jumps.size(), 2u);
+  EXPECT_EQ(s.jumps[0].offset, offsets[2]);
+  EXPECT_EQ(s.jumps[0].from_us, 100000u);
+  EXPECT_EQ(s.jumps[0].to_us, far);
+  EXPECT_EQ(s.jumps[1].offset, offsets[4]);
+  EXPECT_EQ(s.jumps[1].to_us, 300000u);
+  // Played: 0.1 s, the jump, 0.1 s, the jump back, 0.1 s.
+  EXPECT_EQ(s.play_us, 300000u);
+  // With a limit above the gap, the forward jump is a pause to keep.
+  ASSERT_TRUE(summarize_log(path_, s, error, far)) << error;
+  EXPECT_EQ(s.jump_count, 1u);
+}
+
 }  // namespace
 }  // namespace troupe::record

@@ -126,6 +126,19 @@ class RecordReplay : public ::testing::Test {
   }
   static std::string host(uint16_t port) { return "127.0.0.1:" + std::to_string(port); }
 
+  /// Records `count` samples of the kinematic example's position2d:0 into
+  /// the file `name`; its path.
+  std::string record_kinematic(const std::string& name, int count) {
+    uint16_t port = free_port();
+    Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
+    EXPECT_TRUE(node.wait_listening(port)) << node.err();
+    std::string log = file(name);
+    EXPECT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", std::to_string(count)}).rc,
+              0);
+    EXPECT_EQ(node.stop(), 0);
+    return log;
+  }
+
   /// Plays `log` with `troupe play --wait` and collects what a client sees
   /// of `devices`, until the player exits.
   std::vector<Sample> play(const std::string& log, const std::vector<std::string>& devices,
@@ -231,12 +244,7 @@ TEST_F(RecordReplay, ARobotOfTroupeSimPlaysBackUnderItsRobotName) {
 }
 
 TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
-  uint16_t port = free_port();
-  Process node({bin("bin/troupe-node"), kExample, "--port", std::to_string(port)});
-  ASSERT_TRUE(node.wait_listening(port)) << node.err();
-  std::string log = file("whole.trl");
-  ASSERT_EQ(troupe({"record", host(port), "position2d:0", "-o", log, "--count", "12"}).rc, 0);
-  EXPECT_EQ(node.stop(), 0);
+  std::string log = record_kinematic("whole.trl", 12);
   std::vector<Sample> recorded = samples_in(log);
   std::vector<uint64_t> offsets = data_offsets(log);
   ASSERT_EQ(offsets.size(), 12u);
@@ -270,6 +278,37 @@ TEST_F(RecordReplay, TruncatedAndCorruptLogsPlayTheirValidPart) {
   Outcome refused = troupe({"play", garbage});
   EXPECT_EQ(refused.rc, 1);
   EXPECT_NE(refused.err.find("byte 0: not a troupe log"), std::string::npos) << refused.err;
+}
+
+// A recording whose record time jumps (a recorder clock that stepped, or a
+// time damaged with its checksum redone) must not make play wait for days.
+TEST_F(RecordReplay, ATimeJumpIsReportedAndNotWaitedFor) {
+  std::string log = record_kinematic("jump.trl", 10);
+  std::vector<Sample> recorded = samples_in(log);
+  std::vector<uint64_t> offsets = data_offsets(log);
+  ASSERT_EQ(offsets.size(), 10u);
+  // The 6th data record's time to 2^40 us (twelve days), its CRC redone.
+  Bytes bytes = read_file(log);
+  uint8_t* rec = &bytes[offsets[5]];
+  const uint64_t far = uint64_t(1) << 40;
+  for (int i = 0; i < 8; ++i) rec[8 + i] = uint8_t(far >> (8 * i));
+  const uint32_t size = wire::read_prefix(rec);
+  const uint32_t crc = record::crc32({rec + 16, size}, record::crc32({rec + 8, 8}));
+  for (int i = 0; i < 4; ++i) rec[4 + i] = uint8_t(crc >> (8 * i));
+  write_file(log, bytes);
+
+  Outcome info = troupe({"play", log, "--info"});
+  EXPECT_EQ(info.rc, 0);
+  EXPECT_NE(info.out.find("jumps     2"), std::string::npos) << info.out;  // there and back
+  EXPECT_NE(info.out.find("jump      byte " + std::to_string(offsets[5]) + ": "), std::string::npos)
+      << info.out;
+  EXPECT_NE(info.out.find("status    complete"), std::string::npos) << info.out;
+  EXPECT_EQ(info.out.find("duration  1099511"), std::string::npos) << info.out;
+  // Played to its end, every frame, without waiting for the jump.
+  std::string err;
+  EXPECT_EQ(play(log, {"position2d:0"}, {}, &err), recorded);
+  EXPECT_NE(err.find("byte " + std::to_string(offsets[5]) + ": the record time jumps"), std::string::npos)
+      << err;
 }
 
 TEST_F(RecordReplay, RecordingGoesOnAcrossANodeRestart) {

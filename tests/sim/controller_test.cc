@@ -158,25 +158,60 @@ class Drives final : public Controller {
   void update(RobotHandle& robot) override { robot.command(Command::velocity(0.2, 0, 0)); }
 };
 
-TEST(Controllers, AThrowingControllerStopsOnlyItsRobot) {
-  WorldDesc desc = test::room(10, 10);
-  desc.robots.push_back(test::robot("bad", {0, 0, 0}));
-  desc.robots.push_back(test::robot("good", {0, 3, 0}));
-  World w(desc, Random(1));
-  ControllerHost host;
-  std::string err;
-  ASSERT_TRUE(host.attach(w, 0, std::make_unique<Throws>(), err));
-  ASSERT_TRUE(host.attach(w, 1, std::make_unique<Drives>(), err));
-  for (int s = 0; s < 30; ++s) {
-    host.update(w);
-    w.step();
+// A broken controller on robot "bad" (at the origin) beside Drives on
+// robot "good" (3 m away), run for 3 s.
+class BrokenController : public ::testing::Test {
+ protected:
+  // The host's errors after the run.
+  std::vector<std::string> run(std::unique_ptr<Controller> broken) {
+    WorldDesc desc = test::room(10, 10);
+    desc.robots = {test::robot("bad", {0, 0, 0}), test::robot("good", {0, 3, 0})};
+    w_ = std::make_unique<World>(desc, Random(1));
+    ControllerHost host;
+    std::string err;
+    EXPECT_TRUE(host.attach(*w_, 0, std::move(broken), err));
+    EXPECT_TRUE(host.attach(*w_, 1, std::make_unique<Drives>(), err));
+    for (int s = 0; s < 30; ++s) {
+      host.update(*w_);
+      w_->step();
+    }
+    return host.take_errors();
   }
-  auto errors = host.take_errors();
+  std::unique_ptr<World> w_;
+};
+
+TEST_F(BrokenController, AThrowingControllerStopsOnlyItsRobot) {
+  const auto errors = run(std::make_unique<Throws>());
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_NE(errors[0].find("lost my marbles"), std::string::npos);
   EXPECT_NE(errors[0].find("'bad'"), std::string::npos);
-  EXPECT_EQ(w.state(0).velocity.x, 0);
-  EXPECT_NEAR(w.state(1).pose.x, 0.6, 1e-9);
+  EXPECT_EQ(w_->state(0).velocity.x, 0);
+  EXPECT_NEAR(w_->state(1).pose.x, 0.6, 1e-9);
+}
+
+// A controller whose arithmetic went wrong: it drives, then divides by zero.
+class GoesNonFinite final : public Controller {
+ public:
+  bool init(RobotHandle&, std::string&) override { return true; }
+  void update(RobotHandle& robot) override {
+    const double v = robot.time() < 0.5 ? 0.3 : 0.0 / zero_;
+    robot.command(Command::velocity(v, 0, 0));
+  }
+
+ private:
+  double zero_ = 0;
+};
+
+TEST_F(BrokenController, AControllerCommandingNaNIsStoppedAndTheWorldStaysFinite) {
+  const auto errors = run(std::make_unique<GoesNonFinite>());
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("'bad'"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[0].find("non-finite command ("), std::string::npos) << errors[0];
+  EXPECT_NE(errors[0].find("nan, 0, 0) refused"), std::string::npos) << errors[0];
+  EXPECT_EQ(w_->state(0).velocity.x, 0);
+  EXPECT_TRUE(finite_pose(w_->state(0).pose));
+  EXPECT_NEAR(w_->state(0).pose.x, 0.15, 1e-9);  // 5 steps at 0.3 m/s
+  EXPECT_NEAR(w_->state(1).pose.x, 0.6, 1e-9);
 }
 
 }  // namespace

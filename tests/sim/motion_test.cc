@@ -242,5 +242,39 @@ TEST(World, ResetAndTeleport) {
   EXPECT_FALSE(w.find_robot("nobody"));
 }
 
+// Defence in depth: whatever reaches the world (a controller in process, an
+// emulator, a path that skips the wire's checks), NaN and infinity are
+// refused and the world stays finite and steppable.
+TEST(Kinematics, NonFiniteInputsAreRefusedAndTheWorldStaysFinite) {
+  WorldDesc d = open_field();
+  d.robots.push_back(test::robot("r0", {1, 1, 0}));
+  d.robots.push_back(test::robot("r1", {-5, -5, 0}));
+  d.robots.back().localization = Localization::Odom;
+  World w(d, Random(1));
+  ASSERT_TRUE(w.command(0, Command::velocity(0.5, 0, 0)));
+  const double nan = std::nan(""), inf = INFINITY;
+  for (const Pose& bad : {Pose{nan, 0, 0}, Pose{0, inf, 0}, Pose{0, 0, -inf}, Pose{nan, nan, nan}}) {
+    EXPECT_FALSE(w.command(0, Command::velocity(bad.x, bad.y, bad.a)));
+    EXPECT_FALSE(w.command(1, Command::go_to(bad.x, bad.y, bad.a)));
+    EXPECT_FALSE(w.set_pose(1, bad));
+    EXPECT_FALSE(w.set_odometry(1, bad));
+  }
+  // Finite but beyond any map: refused too.
+  EXPECT_FALSE(w.set_pose(1, {1e30, 0, 0}));
+  EXPECT_FALSE(w.set_pose(1, {0, -2 * kMaxCoordinate, 0}));
+  EXPECT_TRUE(w.set_pose(1, {kMaxCoordinate, -kMaxCoordinate, 0}));
+  run(w, 10);
+  // r0 kept its last good command; r1 far away stepped too.
+  EXPECT_NEAR(w.state(0).pose.x, 1.5, 1e-9);
+  EXPECT_NEAR(w.state(0).velocity.x, 0.5, 1e-12);
+  for (RobotId r : {0u, 1u}) {
+    const RobotState& s = w.state(r);
+    EXPECT_TRUE(finite_pose(s.pose) && finite_pose(s.velocity) && finite_pose(s.odometry)) << r;
+  }
+  EXPECT_TRUE(w.set_pose(1, {2, 2, 0}));
+  EXPECT_TRUE(w.set_odometry(1, {0, 0, 0}));
+  EXPECT_EQ(w.state(1).pose.x, 2);
+}
+
 }  // namespace
 }  // namespace troupe::sim

@@ -15,6 +15,7 @@
 
 #include "host-sim/troupe_sim/runner.h"
 #include "host-sim/viewer/view_server.h"
+#include "tests/attack/web_peer.h"
 #include "tests/sim/temp_dir.h"
 #include "wire/frame.h"
 #include "wire/writer.h"
@@ -318,6 +319,68 @@ TEST_F(BridgeTest, BadInputClosesOnlyThatPage) {
   good.send(simple({}, wire::Kind::DeviceList, 0, 2));
   EXPECT_FALSE(good.reply(2).empty());
   EXPECT_EQ(get(server_->port(), "/").result(), http::status::ok);
+}
+
+// The status of a WebSocket handshake with these Host and Origin headers
+// (no Origin when empty), and the body of a refusal: a hand-made handshake,
+// as a hostile page's browser sends it.
+int handshake_status(uint16_t port, const std::string& host, const std::string& origin,
+                     std::string* body = nullptr) {
+  attack::WebPeer page;
+  return page.handshake(port, host, origin, body);
+}
+
+TEST_F(BridgeTest, OnlyTheViewersOwnPagesMayOpenAWebSocket) {
+  const std::string self = "127.0.0.1:" + std::to_string(server_->port());
+  EXPECT_EQ(handshake_status(server_->port(), self, "http://" + self), 101);
+  EXPECT_EQ(handshake_status(server_->port(), "localhost:" + std::to_string(server_->port()),
+                             "http://localhost:" + std::to_string(server_->port())),
+            101);
+  // A page from elsewhere, opened in the same browser.
+  std::string body;
+  EXPECT_EQ(handshake_status(server_->port(), self, "http://evil.example", &body), 403);
+  EXPECT_NE(body.find("may not use this viewer"), std::string::npos) << body;
+  EXPECT_EQ(handshake_status(server_->port(), self, "null"), 403);
+  // DNS rebinding: evil.example made to resolve to this machine, so its
+  // page and the Host it sends agree.
+  const std::string rebound = "evil.example:" + std::to_string(server_->port());
+  EXPECT_EQ(handshake_status(server_->port(), rebound, "http://" + rebound, &body), 403);
+  EXPECT_NE(body.find("DNS rebinding"), std::string::npos) << body;
+  // The page itself is still served, and its WebSocket still works.
+  EXPECT_EQ(get(server_->port(), "/").result(), http::status::ok);
+  Page page(server_->port());
+  page.send(hello());
+  page.send(simple({}, wire::Kind::DeviceList, 0, 1));
+  EXPECT_FALSE(page.reply(1).empty());
+}
+
+TEST_F(BridgeTest, AnOriginAllowedByOptionIsAccepted) {
+  ViewOptions vo;
+  vo.http_port = 0;
+  vo.node_port = runner_.port();
+  vo.allow_origins = {"http://robots.lab:8080"};
+  ViewServer proxied(vo);
+  std::string error;
+  ASSERT_TRUE(proxied.open(error)) << error;
+  proxied.start_thread();
+  EXPECT_EQ(handshake_status(proxied.port(), "robots.lab:8080", "http://robots.lab:8080"), 101);
+  EXPECT_EQ(handshake_status(proxied.port(), "robots.lab:8080", "http://robots.lab:9090"), 403);
+}
+
+// The 44-byte frame (a Hello whose body is absent) passes the bridge's
+// verifier and reaches the node: the simulator must refuse it and go on.
+TEST_F(BridgeTest, ANullBodyFrameThroughTheBridgeLeavesTheSimulatorServing) {
+  Page bad(server_->port());
+  w_.start();
+  bad.send(w_.finish(wire::make_header({}, wire::Kind::Hello, 0, 0, 0), wire::Body::Hello));
+  w_.start();
+  bad.send(w_.finish(wire::make_header({}, wire::Kind::TimeSync, 0, 1, 0), wire::Body::TimeSync));
+  bad.send(simple({}, wire::Kind::DeviceList, 0, 2));
+  bad.reply(2);  // answered, or the WebSocket closed: either way, no crash
+  Page good(server_->port());
+  good.send(hello());
+  good.send(simple({}, wire::Kind::DeviceList, 0, 3));
+  EXPECT_FALSE(good.reply(3).empty());
 }
 
 TEST(BridgeNoNode, APageLearnsTheNodeIsUnreachable) {

@@ -202,16 +202,36 @@ bool LogReader::next(LogRecord& out) {
   return true;
 }
 
-bool summarize_log(const std::string& path, LogSummary& out, std::string& error) {
+uint64_t PlayClock::next(uint64_t record_us, bool& jumped) {
+  jumped = false;
+  if (!started_) {
+    started_ = true;
+    play_us_ = 0;
+  } else if (record_us < last_record_us_ || record_us - last_record_us_ > max_gap_us_) {
+    jumped = true;
+  } else {
+    play_us_ += record_us - last_record_us_;
+  }
+  last_record_us_ = record_us;
+  return play_us_;
+}
+
+bool summarize_log(const std::string& path, LogSummary& out, std::string& error, uint64_t max_gap_us) {
   out = LogSummary{};
   LogReader reader;
   if (!reader.open(path, error)) return false;
+  PlayClock clock(max_gap_us);
   LogRecord r;
   while (reader.next(r)) {
     ++out.records;
     const wire::Header& h = *r.message->header();
     if (h.kind() == wire::Kind::Data) {
       if (out.data_records++ == 0) out.first_data_us = r.time_us;
+      bool jumped = false;
+      out.play_us = clock.next(r.time_us, jumped);
+      if (jumped && out.jump_count++ < LogSummary::kMaxJumpsListed) {
+        out.jumps.push_back({r.offset, out.last_data_us, r.time_us});
+      }
       out.last_data_us = r.time_us;
     } else if (h.kind() == wire::Kind::DeviceList && r.message->body_as_DeviceList() != nullptr) {
       out.device_list.assign(r.frame.begin(), r.frame.end());

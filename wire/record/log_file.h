@@ -119,12 +119,55 @@ class LogReader {
   std::string problem_;
 };
 
+/// The longest pause between two Data records that play keeps by default,
+/// us (`troupe play --max-gap`). A recorder's reconnect backoff is 2 s at
+/// most; a longer gap is a node that was down a while, or a bad time.
+inline constexpr uint64_t kDefaultMaxGapUs = 60'000'000;
+
+/// Where the record times jump: play does not keep that pause.
+struct TimeJump {
+  /// Byte offset of the Data record after the jump.
+  uint64_t offset = 0;
+  /// Receive times of the Data records before and after it, us since the
+  /// recording started.
+  uint64_t from_us = 0, to_us = 0;
+};
+
+/// Turns the receive times of a file's Data records, in file order, into
+/// play times: us after the first Data record, at speed 1. Pauses are kept
+/// as recorded, except jumps: a time before the previous record's (a clock
+/// stepped back, or a bad time) and a gap longer than `max_gap_us` (a bad
+/// time could say 2^40 us, twelve days). After a jump the record plays at
+/// once, and the pace goes on from there.
+class PlayClock {
+ public:
+  explicit PlayClock(uint64_t max_gap_us = kDefaultMaxGapUs) : max_gap_us_(max_gap_us) {}
+  /// The play time of the next Data record, received at `record_us`;
+  /// `jumped` says whether the pause before it was dropped.
+  uint64_t next(uint64_t record_us, bool& jumped);
+  /// Back to the first record.
+  void restart() { started_ = false; }
+
+ private:
+  uint64_t max_gap_us_;
+  bool started_ = false;
+  uint64_t last_record_us_ = 0;
+  uint64_t play_us_ = 0;
+};
+
 /// What a whole file holds, read once before playing it.
 struct LogSummary {
   uint64_t records = 0;
   uint64_t data_records = 0;
   /// Receive times of the first and last Data record, us since the start.
   uint64_t first_data_us = 0, last_data_us = 0;
+  /// How long playing the Data records takes at speed 1 (PlayClock), us.
+  uint64_t play_us = 0;
+  /// Jumps in the record times (PlayClock), the first kMaxJumpsListed of
+  /// them; jump_count counts them all.
+  static constexpr size_t kMaxJumpsListed = 20;
+  std::vector<TimeJump> jumps;
+  uint64_t jump_count = 0;
   /// The recorded devices (the last DeviceList record), as a frame.
   std::vector<uint8_t> device_list;
   /// The node's name from its Hello record.
@@ -137,6 +180,8 @@ struct LogSummary {
 
 /// Reads the whole file. False only when it cannot be opened or its header
 /// is bad (`error`); a bad record later is reported in `out.problem`.
-bool summarize_log(const std::string& path, LogSummary& out, std::string& error);
+/// `max_gap_us` is the PlayClock's.
+bool summarize_log(const std::string& path, LogSummary& out, std::string& error,
+                   uint64_t max_gap_us = kDefaultMaxGapUs);
 
 }  // namespace troupe::record

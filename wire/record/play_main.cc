@@ -20,14 +20,17 @@ namespace {
 
 const char kUsage[] =
     "usage: troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
-    "       troupe play FILE --info\n"
+    "                        [--max-gap S]\n"
+    "       troupe play FILE --info [--max-gap S]\n"
     "\n"
     "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
     "devices, with their data at the recorded pace and with the timestamps the\n"
     "recorded node gave it. Clients connect to it as to the node that was\n"
     "recorded. It ends after the last frame unless --loop or --hold. A truncated\n"
     "or corrupt file is reported with the byte offset where it goes wrong, and\n"
-    "everything before that offset plays.\n"
+    "everything before that offset plays. Where the record times jump (back, or\n"
+    "forward by more than --max-gap) the pause is not kept: the jump is reported\n"
+    "with its byte offset and play goes on at once.\n"
     "\n"
     "  --speed X      play X times as fast as recorded (default 1; 0.5: half speed)\n"
     "  --port P       TCP port (default 6665; 0: any free port, printed)\n"
@@ -35,6 +38,7 @@ const char kUsage[] =
     "  --loop         start over after the last frame\n"
     "  --wait         hold the start until every recorded device has a reader\n"
     "  --hold         keep serving after the last frame, until Ctrl-C\n"
+    "  --max-gap S    longest pause between two frames that is kept, s (default 60)\n"
     "  --info         print what the file holds and exit\n"
     "  --log-level LEVEL  error, warn, info (default) or debug\n"
     "\n"
@@ -87,12 +91,25 @@ std::vector<Recorded> recorded_devices(const troupe::record::LogSummary& summary
 }
 
 void print_info(const std::string& path, const troupe::record::LogSummary& s,
-                const std::vector<Recorded>& devices) {
+                const std::vector<Recorded>& devices, uint64_t max_gap_us) {
   printf("file      %s\n", path.c_str());
   printf("node      %s\n", s.node_name.c_str());
   printf("records   %llu (%llu data)\n", static_cast<unsigned long long>(s.records),
          static_cast<unsigned long long>(s.data_records));
-  printf("duration  %.3f s\n", double(s.last_data_us - s.first_data_us) * 1e-6);
+  printf("duration  %.3f s\n", double(s.play_us) * 1e-6);
+  if (s.jump_count > 0) {
+    printf("jumps     %llu (pauses over %.0f s or steps back in the record times, not kept)\n",
+           static_cast<unsigned long long>(s.jump_count), double(max_gap_us) * 1e-6);
+  }
+  for (const troupe::record::TimeJump& j : s.jumps) {
+    const bool back = j.to_us < j.from_us;
+    printf("jump      byte %llu: %.6f s to %.6f s (%s%.6f s)\n", static_cast<unsigned long long>(j.offset),
+           double(j.from_us) * 1e-6, double(j.to_us) * 1e-6, back ? "-" : "+",
+           double(back ? j.from_us - j.to_us : j.to_us - j.from_us) * 1e-6);
+  }
+  if (s.jump_count > s.jumps.size()) {
+    printf("jump      ... and %llu more\n", static_cast<unsigned long long>(s.jump_count - s.jumps.size()));
+  }
   for (const Recorded& d : devices) {
     printf("device    %s\t%s\n", troupe::wire::format_address(d.addr, d.robot_name).c_str(),
            d.driver.c_str());
@@ -125,6 +142,12 @@ int main(int argc, char** argv) {
           replay.speed <= 0) {
         return usage_error("--speed needs a number > 0");
       }
+    } else if (a == "--max-gap") {
+      char* end = nullptr;
+      double gap = 0;
+      if (!value(v) || (gap = strtod(v, &end), *end != '\0') || !(gap > 0) || gap > 1e9)
+        return usage_error("--max-gap needs seconds > 0");
+      replay.max_gap_us = uint64_t(gap * 1e6);
     } else if (a == "--port") {
       char* end = nullptr;
       long p = value(v) ? strtol(v, &end, 10) : -1;
@@ -158,13 +181,13 @@ int main(int argc, char** argv) {
 
   std::string error;
   troupe::record::LogSummary summary;
-  if (!troupe::record::summarize_log(replay.path, summary, error)) {
+  if (!troupe::record::summarize_log(replay.path, summary, error, replay.max_gap_us)) {
     troupe::log_error("%s", error.c_str());
     return 1;
   }
   std::vector<Recorded> devices = recorded_devices(summary);
   if (info) {
-    print_info(replay.path, summary, devices);
+    print_info(replay.path, summary, devices, replay.max_gap_us);
     return 0;
   }
   if (!summary.problem.empty()) {
@@ -207,8 +230,8 @@ int main(int argc, char** argv) {
   StopWatch stop(node, signals);
   troupe::log_info("playing %s (%llu frames of %zu devices, %.1f s) at speed %g on %s:%u",
                    replay.path.c_str(), static_cast<unsigned long long>(summary.data_records), devices.size(),
-                   double(summary.last_data_us - summary.first_data_us) * 1e-6, replay.speed,
-                   node_options.listen.c_str(), unsigned(node.port()));
+                   double(summary.play_us) * 1e-6, replay.speed, node_options.listen.c_str(),
+                   unsigned(node.port()));
   uint64_t drain_until = 0;
   while (!node.loop().stopped()) {
     node.poll(100000);

@@ -11,9 +11,15 @@ namespace {
 // How often a replay waiting for readers looks whether they came, us.
 constexpr uint64_t kReaderCheckUs = 20000;
 
+// A play time in loop-clock us at `speed`, saturated far beyond any run.
+uint64_t scaled_us(uint64_t play_us, double speed) {
+  const double us = double(play_us) / speed;
+  return us < 1e18 ? uint64_t(us) : uint64_t(1e18);
+}
+
 }  // namespace
 
-ReplayDriver::ReplayDriver(Options options) : options_(std::move(options)) {}
+ReplayDriver::ReplayDriver(Options options) : options_(std::move(options)), clock_(options_.max_gap_us) {}
 
 bool ReplayDriver::setup(Node& node, const DriverSetup& setup, std::string& error) {
   if (!(options_.speed > 0)) {
@@ -66,20 +72,33 @@ void ReplayDriver::on_timer(TimerId) {
 void ReplayDriver::begin_pass() {
   ++passes_;
   reader_.rewind();
+  clock_.restart();
   has_current_ = read_data();
   if (!has_current_) {
     finished_ = true;  // nothing to play (or nothing more: an empty pass would loop forever)
     return;
   }
   pass_start_us_ = node_->loop().now_us();
-  first_record_us_ = last_record_us_ = current_.time_us;
+  last_play_us_ = 0;
   pass_frames_ = 0;
   play_due();
 }
 
 bool ReplayDriver::read_data() {
   while (reader_.next(current_)) {
-    if (current_.message->header()->kind() == wire::Kind::Data) return true;
+    if (current_.message->header()->kind() != wire::Kind::Data) continue;
+    bool jumped = false;
+    current_play_us_ = clock_.next(current_.time_us, jumped);
+    // Logged in the first pass only.
+    if (jumped && passes_ == 1 && log_this_one(jumps_)) {
+      log_warn(
+          "%s: byte %llu: the record time jumps to %.6f s; playing on at once (a pause over %.0f s or "
+          "a step back is not kept; %llu such jumps so far)",
+          options_.path.c_str(), static_cast<unsigned long long>(current_.offset),
+          double(current_.time_us) * 1e-6, double(options_.max_gap_us) * 1e-6,
+          static_cast<unsigned long long>(jumps_));
+    }
+    return true;
   }
   return false;
 }
@@ -93,17 +112,12 @@ void ReplayDriver::play_due() {
       }
       // The next pass starts one mean frame interval later, as the next
       // frame would have: never at once, so a pass is never re-entered.
-      uint64_t span_us = last_record_us_ - first_record_us_;
-      uint64_t gap_us =
-          pass_frames_ > 1 ? uint64_t(double(span_us) / double(pass_frames_ - 1) / options_.speed) : 0;
+      uint64_t gap_us = pass_frames_ > 1 ? scaled_us(last_play_us_ / (pass_frames_ - 1), options_.speed) : 0;
       restart_ = true;
       timer_ = node_->loop().start_timer(std::max<uint64_t>(gap_us, 1000), 0, this);
       return;
     }
-    // Receive times are offsets from the recording's start; a record older
-    // than the pass's first (a clock step in the recorder) plays at once.
-    uint64_t offset_us = current_.time_us > first_record_us_ ? current_.time_us - first_record_us_ : 0;
-    uint64_t due = pass_start_us_ + uint64_t(double(offset_us) / options_.speed);
+    uint64_t due = pass_start_us_ + scaled_us(current_play_us_, options_.speed);
     uint64_t now = node_->loop().now_us();
     if (due > now) {
       timer_ = node_->loop().start_timer(due - now, 0, this);
@@ -111,7 +125,7 @@ void ReplayDriver::play_due() {
     }
     publish(current_);
     ++pass_frames_;
-    last_record_us_ = std::max(last_record_us_, current_.time_us);
+    last_play_us_ = current_play_us_;
     has_current_ = read_data();
   }
 }

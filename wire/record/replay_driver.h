@@ -1,7 +1,7 @@
 // The replay driver behind `troupe play`: provides the devices named in a
 // log file and publishes their recorded Data again, paced by the recorded
-// receive times divided by a speed factor, with the original sender
-// timestamps in the headers. It stops at the end of the file or at the
+// receive times (as PlayClock keeps them: jumps dropped) divided by a speed
+// factor, with the original sender timestamps in the headers. It stops at the end of the file or at the
 // first bad record (everything before it plays).
 //
 // Provides: every device of the log's DeviceList record, in its order.
@@ -29,6 +29,8 @@ class ReplayDriver : public Driver {
     /// Hold the start until every device has a reader, so that a client
     /// connecting after `troupe play` started still sees the first frame.
     bool wait_for_readers = false;
+    /// Longer pauses between records are jumps, not kept (PlayClock), us.
+    uint64_t max_gap_us = kDefaultMaxGapUs;
   };
 
   explicit ReplayDriver(Options options);
@@ -47,7 +49,8 @@ class ReplayDriver : public Driver {
   void begin_pass();
   /// Publishes every record that is due, then arms the timer for the next.
   void play_due();
-  /// Reads up to the next Data record; false at the end of the playable part.
+  /// Reads up to the next Data record and its play time; false at the end
+  /// of the playable part.
   bool read_data();
   void publish(const LogRecord& record);
 
@@ -55,12 +58,14 @@ class ReplayDriver : public Driver {
   LogReader reader_;
   BodyCopier copier_;
   std::unordered_map<uint64_t, DeviceId> devices_;  // by wire::address_key
+  PlayClock clock_;
   LogRecord current_;
+  uint64_t current_play_us_ = 0;  // current_'s play time, us after the pass's first record
   bool has_current_ = false;
-  uint64_t pass_start_us_ = 0;    // loop clock when the pass began
-  uint64_t first_record_us_ = 0;  // receive time of the pass's first Data record
-  uint64_t last_record_us_ = 0;   // ... and of the latest one published
+  uint64_t pass_start_us_ = 0;  // loop clock when the pass began
+  uint64_t last_play_us_ = 0;   // play time of the latest record published
   uint64_t pass_frames_ = 0;
+  uint64_t jumps_ = 0;
   bool restart_ = false;  // the armed timer starts the next pass
   TimerId timer_ = 0;
   bool waiting_ = false;
