@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   if (options.serve) {
     // The port goes to stdout on its own line, so scripts and tests that
     // asked for port 0 can read it.
-    std::printf("listening on %s:%u\n", options.listen.c_str(), unsigned(runner.port()));
+    std::printf("listening on %s\n", runner.node().listen_text().c_str());
     std::fflush(stdout);
     troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(runner.port()));
   }

@@ -8,10 +8,10 @@
 #include <cstring>
 #include <string>
 
-#include "runtime/log.h"
-#include "runtime/stop_signals.h"
 #include "wire/address.h"
+#include "wire/log.h"
 #include "wire/record/recorder.h"
+#include "wire/stop_signals.h"
 
 namespace {
 

@@ -53,7 +53,7 @@ const char kHelp[] =
     "  --quiet          no event lines, only the final score\n"
     "  --serve          serve every robot and simulation:0 over the wire instead\n"
     "  --port P         with --serve: TCP port (default 6665; 0: any, printed)\n"
-    "  --listen ADDR    with --serve: address to listen on (default 127.0.0.1)\n"
+    "  --listen ADDR    with --serve: address to listen on (default localhost)\n"
     "  --speed X        with --serve: multiple of real time (0: as fast as possible)\n"
     "  --paused         with --serve: start paused (simulation:0 resume or step)\n"
     "\n"
@@ -86,7 +86,7 @@ int serve(Simulation& sim, const ServeOptions& options) {
   signal(SIGTERM, stop_serving);
   // The port on its own line, so scripts and tests that asked for port 0
   // can read it.
-  printf("listening on %s:%u\n", options.listen.c_str(), unsigned(loop.port()));
+  printf("listening on %s\n", loop.node().listen_text().c_str());
   fflush(stdout);
   loop.run();
   g_serving = nullptr;
