@@ -1,16 +1,10 @@
 #pragma once
 
-#include <cstdint>
-#include <ctime>
+#include "wire/clock.h"
 
 namespace troupe {
 
-/// Monotonic time in microseconds (CLOCK_MONOTONIC): never jumps with the
-/// wall clock, so deadlines and rates stay right.
-inline uint64_t monotonic_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000u + uint64_t(ts.tv_nsec) / 1000u;
-}
+/// Monotonic time in microseconds (wire/clock.h).
+using wire::monotonic_us;
 
 }  // namespace troupe

@@ -125,8 +125,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   troupe::StopOnSignal stop_on_signal(node.loop(), [&node] { node.stop(); });
-  troupe::log_info("%s (board %s) serving %zu devices on %s:%u", options.name.c_str(), troupe::kBoardName,
-                   node.device_count(), options.listen.c_str(), unsigned(node.port()));
+  troupe::log_info("%s (board %s) serving %zu devices on %s", options.name.c_str(), troupe::kBoardName,
+                   node.device_count(), node.listen_text().c_str());
   node.run();
   node.shutdown();
   troupe::log_info("stopped");

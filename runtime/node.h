@@ -25,7 +25,9 @@ class Node final : public TimerHandler {
   struct Options {
     std::string name = "troupe-node";
     /// Listen address and TCP port; the UDP data socket uses the same port.
-    std::string listen = "127.0.0.1";
+    /// "localhost" is both loopbacks, 127.0.0.1 and ::1; an address (IPv6
+    /// with or without brackets, "0.0.0.0", "::") is that address alone.
+    std::string listen = "localhost";
     uint16_t port = wire::kDefaultPort;
     bool udp = true;
     /// Clients served at once. One more takes the slot of a connection that
@@ -82,6 +84,8 @@ class Node final : public TimerHandler {
 
   /// The bound TCP port (useful with port 0 in tests).
   uint16_t port() const;
+  /// What it listens on: "127.0.0.1:6665 and [::1]:6665" for localhost.
+  std::string listen_text() const;
   size_t client_count() const;
   const Options& options() const { return options_; }
 

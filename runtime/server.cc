@@ -71,58 +71,145 @@ Server::Server(Node& node) : node_(node), clients_(node.options().max_clients) {
 
 Server::~Server() {
   close_all();
-  if (listen_fd_ >= 0) close(listen_fd_);
-  if (udp_fd_ >= 0) close(udp_fd_);
+  close_listeners();
+}
+
+void Server::close_listeners() {
+  for (int i = 0; i < listener_count_; ++i) {
+    if (listeners_[i].tcp >= 0) {
+      node_.loop().unwatch(listeners_[i].tcp);
+      close(listeners_[i].tcp);
+    }
+    if (listeners_[i].udp >= 0) close(listeners_[i].udp);
+    listeners_[i] = Listener{};
+  }
+  listener_count_ = 0;
+}
+
+// Binds and listens on one address; on success fills `out` (and its UDP
+// data socket when UDP is on) and returns 0, else the errno.
+int Server::listen_on(const sockaddr* addr, socklen_t len, bool v6_only, Listener& out) {
+  int fd = socket(addr->sa_family, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return errno;
+  int one = 1;
+  setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+  // The IPv6 half of a pair must leave IPv4 to its own socket.
+  if (v6_only) setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &one, sizeof one);
+  if (bind(fd, addr, len) != 0 || listen(fd, 64) != 0 || !set_nonblocking(fd)) {
+    int err = errno;
+    close(fd);
+    return err;
+  }
+  out = Listener{fd, -1, addr->sa_family};
+  sockaddr_storage bound{};
+  socklen_t bound_len = sizeof bound;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &bound_len);
+  port_ = ntohs(bound.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port
+                                            : reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+  if (node_.options().udp) {
+    // Data datagrams leave from the same address and port number.
+    int ufd = socket(addr->sa_family, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+    if (ufd >= 0 && v6_only) setsockopt(ufd, IPPROTO_IPV6, IPV6_V6ONLY, &one, sizeof one);
+    if (ufd >= 0 && bind(ufd, reinterpret_cast<sockaddr*>(&bound), bound_len) == 0) {
+      out.udp = ufd;
+    } else {
+      if (ufd >= 0) close(ufd);
+      log_warn("UDP data disabled: cannot bind UDP port %u: %s", unsigned(port_), strerror(errno));
+    }
+  }
+  return 0;
+}
+
+std::string Server::listen_text() const {
+  std::string text;
+  for (int i = 0; i < listener_count_; ++i) {
+    sockaddr_storage a{};
+    socklen_t len = sizeof a;
+    char ip[INET6_ADDRSTRLEN] = "?";
+    getsockname(listeners_[i].tcp, reinterpret_cast<sockaddr*>(&a), &len);
+    bool v6 = a.ss_family == AF_INET6;
+    inet_ntop(a.ss_family, v6 ? static_cast<void*>(&reinterpret_cast<sockaddr_in6*>(&a)->sin6_addr)
+                              : static_cast<void*>(&reinterpret_cast<sockaddr_in*>(&a)->sin_addr),
+              ip, sizeof ip);
+    text += std::string(i ? " and " : "") + (v6 ? "[" : "") + ip + (v6 ? "]:" : ":") + std::to_string(port_);
+  }
+  return text;
+}
+
+int Server::udp_for(int family) const {
+  for (int i = 0; i < listener_count_; ++i) {
+    if (listeners_[i].family == family) return listeners_[i].udp;
+  }
+  return -1;
 }
 
 bool Server::start(std::string& error) {
   const Node::Options& opt = node_.options();
-  addrinfo hints{};
-  hints.ai_family = AF_UNSPEC;
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
-  addrinfo* found = nullptr;
+  std::string host = opt.listen;
+  if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
   char port_text[8];
   snprintf(port_text, sizeof port_text, "%u", unsigned(opt.port));
-  int rc = getaddrinfo(opt.listen.empty() ? nullptr : opt.listen.c_str(), port_text, &hints, &found);
-  if (rc != 0) {
-    error = "cannot resolve listen address '" + opt.listen + "': " + gai_strerror(rc);
-    return false;
-  }
-  int last_errno = 0;
-  for (addrinfo* ai = found; ai != nullptr && listen_fd_ < 0; ai = ai->ai_next) {
-    int fd = socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC, ai->ai_protocol);
-    if (fd < 0) continue;
-    int one = 1;
-    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (bind(fd, ai->ai_addr, ai->ai_addrlen) == 0 && listen(fd, 64) == 0 && set_nonblocking(fd)) {
-      listen_fd_ = fd;
-      sockaddr_storage bound{};
-      socklen_t len = sizeof bound;
-      getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
-      port_ = ntohs(bound.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port
-                                                : reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
-      if (opt.udp) {
-        // Data datagrams leave from the same address and port number.
-        int ufd = socket(ai->ai_family, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
-        if (ufd >= 0 && bind(ufd, reinterpret_cast<sockaddr*>(&bound), len) == 0) {
-          udp_fd_ = ufd;
-        } else {
-          if (ufd >= 0) close(ufd);
-          log_warn("UDP data disabled: cannot bind UDP port %u: %s", unsigned(port_), strerror(errno));
-        }
+  if (host == "localhost") {
+    // Both loopbacks, whatever the hosts file says: clients resolve
+    // localhost to ::1 first on a standard Debian, to 127.0.0.1 elsewhere.
+    sockaddr_in v4{};
+    v4.sin_family = AF_INET;
+    v4.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    sockaddr_in6 v6{};
+    v6.sin6_family = AF_INET6;
+    v6.sin6_addr = in6addr_loopback;
+    // With port 0 the kernel picks IPv4's port, which may be taken on ::1:
+    // then both are tried again with another.
+    for (int attempt = 0; attempt < 16; ++attempt) {
+      v4.sin_port = htons(opt.port);
+      if (int err = listen_on(reinterpret_cast<sockaddr*>(&v4), sizeof v4, false, listeners_[0]); err != 0) {
+        error = "cannot listen on 127.0.0.1:" + std::string(port_text) + ": " + strerror(err);
+        return false;
       }
-    } else {
-      last_errno = errno;
-      close(fd);
+      listener_count_ = 1;
+      v6.sin6_port = htons(port_);
+      int err = listen_on(reinterpret_cast<sockaddr*>(&v6), sizeof v6, true, listeners_[1]);
+      if (err == 0) {
+        listener_count_ = 2;
+        break;
+      }
+      if (err == EADDRNOTAVAIL || err == EAFNOSUPPORT) {
+        log_warn("no IPv6 loopback (%s): serving localhost on 127.0.0.1 only", strerror(err));
+        break;
+      }
+      close_listeners();
+      if (err != EADDRINUSE || opt.port != 0) {
+        error = "cannot listen on [::1]:" + std::string(port_text) + ": " + strerror(err);
+        return false;
+      }
+    }
+    if (listener_count_ == 0) {
+      error = "cannot find a port free on both 127.0.0.1 and ::1";
+      return false;
+    }
+  } else {
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
+    addrinfo* found = nullptr;
+    int rc = getaddrinfo(host.empty() ? nullptr : host.c_str(), port_text, &hints, &found);
+    if (rc != 0) {
+      error = "cannot resolve listen address '" + opt.listen + "': " + gai_strerror(rc);
+      return false;
+    }
+    int last_errno = 0;
+    for (addrinfo* ai = found; ai != nullptr && listener_count_ == 0; ai = ai->ai_next) {
+      last_errno = listen_on(ai->ai_addr, ai->ai_addrlen, false, listeners_[0]);
+      if (last_errno == 0) listener_count_ = 1;
+    }
+    freeaddrinfo(found);
+    if (listener_count_ == 0) {
+      error = "cannot listen on " + opt.listen + ":" + port_text + ": " + strerror(last_errno);
+      return false;
     }
   }
-  freeaddrinfo(found);
-  if (listen_fd_ < 0) {
-    error = "cannot listen on " + opt.listen + ":" + port_text + ": " + strerror(last_errno);
-    return false;
-  }
-  node_.loop().watch(listen_fd_, EPOLLIN, this);
+  for (int i = 0; i < listener_count_; ++i) node_.loop().watch(listeners_[i].tcp, EPOLLIN, this);
   // Deadlines are checked a few times per the shortest one, at most once a
   // second: a connection is closed at most a quarter late.
   uint32_t shortest = 0;
@@ -153,9 +240,8 @@ uint32_t Server::index_of_fd(int fd) const {
 }
 
 void Server::on_fd(int fd, uint32_t events) {
-  if (fd == listen_fd_) {
-    accept_clients();
-    return;
+  for (int i = 0; i < listener_count_; ++i) {
+    if (fd == listeners_[i].tcp) return accept_clients(fd);
   }
   uint32_t index = index_of_fd(fd);
   if (index >= clients_.size()) return;
@@ -178,11 +264,11 @@ void Server::on_fd(int fd, uint32_t events) {
   if (c.state == State::Open && (events & (EPOLLIN | EPOLLHUP | EPOLLERR))) read_client(index);
 }
 
-void Server::accept_clients() {
+void Server::accept_clients(int listen_fd) {
   for (;;) {
     sockaddr_storage peer{};
     socklen_t len = sizeof peer;
-    int fd = accept4(listen_fd_, reinterpret_cast<sockaddr*>(&peer), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    int fd = accept4(listen_fd, reinterpret_cast<sockaddr*>(&peer), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (fd < 0) {
       if (errno == EINTR) continue;
       if (errno != EAGAIN && errno != EWOULDBLOCK) log_warn("accept: %s", strerror(errno));
@@ -348,7 +434,7 @@ void Server::handle_hello(uint32_t index, const wire::Message& msg) {
   }
   Client& c = clients_[index];
   c.max_frame = hello->max_frame_bytes();
-  if (hello->udp_port() != 0 && udp_fd_ < 0) {
+  if (hello->udp_port() != 0 && udp_for(c.peer.ss_family) < 0) {
     log_warn("client %u asked for UDP data, but UDP is disabled; data stays on TCP", index);
   } else {
     c.udp_port = hello->udp_port();
@@ -481,7 +567,7 @@ void Server::push_data(uint32_t client, DeviceId device, int slot, std::span<con
       reinterpret_cast<sockaddr_in*>(&to)->sin_port = htons(c.udp_port);
     }
     // Latest wins: a datagram the kernel cannot take now is simply dropped.
-    (void)!sendto(udp_fd_, frame.data(), frame.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&to),
+    (void)!sendto(udp_for(to.ss_family), frame.data(), frame.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&to),
                   c.peer_len);
     return;
   }

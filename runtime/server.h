@@ -38,6 +38,8 @@ class Server final : public FdHandler, public TimerHandler {
 
   bool start(std::string& error);
   uint16_t port() const { return port_; }
+  /// "127.0.0.1:6665", or "127.0.0.1:6665 and [::1]:6665" for localhost.
+  std::string listen_text() const;
   size_t client_count() const;
 
   bool alive(uint32_t client, uint32_t generation) const;
@@ -82,7 +84,18 @@ class Server final : public FdHandler, public TimerHandler {
     uint64_t heard_us = 0;      // last valid frame; 0: none yet
   };
 
-  void accept_clients();
+  /// One listening socket with its UDP data socket; `localhost` has two.
+  struct Listener {
+    int tcp = -1;
+    int udp = -1;
+    int family = 0;
+  };
+
+  int listen_on(const sockaddr* addr, socklen_t len, bool v6_only, Listener& out);
+  void close_listeners();
+  /// The UDP data socket for peers of `family`, -1 when there is none.
+  int udp_for(int family) const;
+  void accept_clients(int listen_fd);
   void read_client(uint32_t index);
   void flush(uint32_t index);
   /// Writes as much of `bytes` as the socket takes; returns bytes written,
@@ -105,8 +118,8 @@ class Server final : public FdHandler, public TimerHandler {
   friend class Node;
 
   Node& node_;
-  int listen_fd_ = -1;
-  int udp_fd_ = -1;
+  Listener listeners_[2];
+  int listener_count_ = 0;
   uint16_t port_ = 0;
   TimerId sweep_ = 0;
   std::vector<Client> clients_;

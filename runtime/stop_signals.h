@@ -1,31 +1,14 @@
-// SIGINT and SIGTERM as a readable descriptor (signalfd), so that programs
-// stop from inside their single loop like any other event: drivers shut
-// down, files are finished, nothing runs in a signal handler.
+// Stopping a node's loop on SIGINT or SIGTERM (the signals as a descriptor:
+// wire/stop_signals.h).
 #pragma once
 
 #include <cstdint>
 
 #include "runtime/event_loop.h"
 #include "runtime/log.h"
+#include "wire/stop_signals.h"
 
 namespace troupe {
-
-class StopSignals {
- public:
-  /// Blocks SIGINT and SIGTERM for this thread and opens the descriptor.
-  StopSignals();
-  ~StopSignals();
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-
-  /// Readable once a signal is pending; -1 when signalfd failed.
-  int fd() const { return fd_; }
-  /// Consumes a pending signal and returns its name, or nullptr.
-  const char* take();
-
- private:
-  int fd_ = -1;
-};
 
 /// Calls `stop()` from `loop` when SIGINT or SIGTERM arrives, after logging
 /// which one. `Stop` is any callable (a lambda naming what to stop).

@@ -10,6 +10,7 @@ set(BOARD_DRIVERS
   mcl
   fusion
   passthrough
+  replay
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

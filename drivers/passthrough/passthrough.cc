@@ -2,9 +2,9 @@
 
 #include <cstdio>
 
-#include "drivers/passthrough/body_copy.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
+#include "wire/body_copy.h"
 
 namespace troupe::drivers::passthrough {
 namespace {
@@ -190,7 +190,7 @@ void Passthrough::on_remote_frame(const wire::Message& msg) {
       Forwarded* f = by_remote(h.addr());
       if (f == nullptr || !opened_) return;
       auto& b = node_->begin();
-      flatbuffers::Offset<void> body = copy_body(b, msg);
+      flatbuffers::Offset<void> body = wire::body_copier().copy(b, msg);
       wire::Body type = body.IsNull() ? wire::Body::NONE : msg.body_type();
       node_->publish(f->local, h.subtype(), type, body, wire::time_us(h));
       return;
@@ -210,7 +210,7 @@ void Passthrough::forward_reply(const wire::Message& reply) {
     r.active = false;
     if (h.kind() == wire::Kind::Ack) {
       auto& b = node_->begin();
-      flatbuffers::Offset<void> body = copy_body(b, reply);
+      flatbuffers::Offset<void> body = wire::body_copier().copy(b, reply);
       node_->ack(r.token, body.IsNull() ? wire::Body::NONE : reply.body_type(), body);
     } else {
       const wire::Error* e = reply.body_as_Error();
@@ -237,7 +237,7 @@ void Passthrough::on_command(DeviceId device, const wire::Message& command) {
     return;
   }
   auto& b = writer_.start();
-  flatbuffers::Offset<void> body = copy_body(b, command);
+  flatbuffers::Offset<void> body = wire::body_copier().copy(b, command);
   const wire::Header& h = *command.header();
   std::span<const uint8_t> frame = writer_.finish(
       wire::make_header(f->remote, wire::Kind::Command, h.subtype(), link_->next_seq(), wire::time_us(h)),
@@ -289,7 +289,7 @@ void Passthrough::on_request(DeviceId device, const wire::Message& request, Requ
     return node_->nack(token, wire::ErrorCode::DeviceFailed, "too many requests waiting for the remote");
   }
   auto& b = writer_.start();
-  flatbuffers::Offset<void> body = copy_body(b, request);
+  flatbuffers::Offset<void> body = wire::body_copier().copy(b, request);
   const wire::Header& h = *request.header();
   uint32_t seq = link_->next_seq();
   std::span<const uint8_t> frame =
@@ -325,7 +325,7 @@ std::string Passthrough::status_text() const {
   char buf[160];
   std::snprintf(buf, sizeof buf,
                 "{\"remote\":\"%s\",\"state\":\"%s\",\"link\":\"%s\",\"for_s\":%.1f,\"connections\":%u,",
-                link_->remote_text().c_str(), state, link_state_name(link_->state()), since_s,
+                link_->remote_text().c_str(), state, wire::link_state_name(link_->state()), since_s,
                 link_->connections());
   return std::string(buf) + "\"last_error\":\"" + err + "\"}";
 }

@@ -1,34 +1,23 @@
-// A connection to a remote node that lives inside the local node's event
-// loop: non-blocking connect, Hello, a keep-alive, reconnection with
-// backoff. It never blocks the loop: the address is numeric (no DNS), the
-// connect and the handshake have deadlines, and writes only queue.
-//
-// States: Waiting (for the next attempt) -> Connecting (TCP) -> Handshake
-// (our Hello sent, waiting for the remote's) -> Up. Any failure closes the
-// socket and goes back to Waiting with the next backoff.
+// The connection core (wire/connection) inside a node's event loop: the
+// adapter that watches the link's sockets and its next deadline with the
+// loop's epoll and timers, and hands the events to a listener. The session
+// itself (every address tried, Hello, keep-alive, reconnection with backoff,
+// verification) is the core's. It never blocks the loop: the host must be
+// numeric or `localhost` (no DNS), the connect and the handshake have
+// deadlines, and writes only queue.
 #pragma once
 
-#include <netinet/in.h>
-#include <sys/socket.h>
-
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
-#include <vector>
 
 #include "runtime/event_loop.h"
-#include "wire/frame.h"
-#include "wire/writer.h"
+#include "wire/connection/socket_link.h"
 
 namespace troupe::drivers::passthrough {
 
-enum class LinkState : uint8_t { Waiting, Connecting, Handshake, Up };
-
-/// "waiting", "connecting", "handshake", "up".
-const char* link_state_name(LinkState s);
-
-/// What the link tells its owner. Called from the loop, never re-entrantly
-/// from RemoteLink's public methods except close().
+/// What the link tells its owner, from the loop.
 class LinkListener {
  public:
   /// The remote's Hello arrived: frames may be sent.
@@ -51,6 +40,8 @@ struct LinkOptions {
   uint64_t backoff_min_us = 100'000;
   uint64_t backoff_max_us = 5'000'000;
   uint64_t connect_timeout_us = 3'000'000;
+  /// A keep-alive goes out after a quarter of it without traffic; a remote
+  /// that sends nothing at all for this long is dropped, us.
   uint64_t idle_timeout_us = 4'000'000;
   /// Frames queued for a remote that does not read, bytes: beyond it the
   /// link is dropped (and rebuilt) rather than grown.
@@ -65,29 +56,29 @@ class RemoteLink final : public FdHandler, public TimerHandler {
   RemoteLink(const RemoteLink&) = delete;
   RemoteLink& operator=(const RemoteLink&) = delete;
 
-  /// Parses the address (false with `error` when it is not numeric) and
-  /// starts the first attempt at once.
+  /// Checks the address (false with `error` when it is a name that would
+  /// need DNS) and starts the first attempt at once.
   bool start(const LinkOptions& options, std::string& error);
-  /// Closes the socket and stops retrying.
+  /// Closes the sockets and stops retrying.
   void stop();
 
-  LinkState state() const { return state_; }
-  bool up() const { return state_ == LinkState::Up; }
+  wire::LinkState state() const { return conn().state(); }
+  bool up() const { return conn().up(); }
   /// Nothing waits in the outbound queue.
-  bool idle() const { return out_head_ == out_.size(); }
+  bool idle() const { return conn().output().empty(); }
   /// Loop time (us) of the last state change.
-  uint64_t since_us() const { return since_us_; }
-  const std::string& last_error() const { return last_error_; }
+  uint64_t since_us() const { return conn().since_us(); }
+  const std::string& last_error() const { return conn().error(); }
   /// Successful handshakes so far.
-  uint32_t connections() const { return connections_; }
-  /// "127.0.0.1:6665".
+  uint32_t connections() const { return conn().connections(); }
+  /// "127.0.0.1:6665", "localhost:6665", "[::1]:6665".
   const std::string& remote_text() const { return remote_text_; }
 
   /// Queues a frame for the remote (only while up). False when the link is
   /// not up or the queue overflowed (then the link is closed).
   bool send(std::span<const uint8_t> frame);
   /// A sequence number for a request or control message on this link.
-  uint32_t next_seq() { return ++seq_; }
+  uint32_t next_seq() { return link_->connection().next_seq(); }
   /// Drops the connection for `why` and reconnects after the backoff.
   void close(const std::string& why);
 
@@ -95,37 +86,26 @@ class RemoteLink final : public FdHandler, public TimerHandler {
   void on_timer(TimerId id) override;
 
  private:
-  void attempt();
-  void on_connected();
-  void read_some();
-  void flush();
-  void dispatch(std::span<const uint8_t> frame);
-  void set_state(LinkState s);
-  void arm(TimerId& timer, uint64_t delay_us, uint64_t period_us = 0);
-  void disarm(TimerId& timer);
+  const wire::Connection& conn() const { return link_->connection(); }
+  /// Hands events to the listener, then follows the link's descriptors and
+  /// deadline with the loop's watches and timer.
+  void service();
+  /// Stops watching a socket the link is about to close.
+  void forget(int fd);
+  void sync_watches();
+  void arm_timer();
 
   EventLoop& loop_;
   LinkListener& listener_;
-  LinkOptions options_;
-  sockaddr_storage addr_{};
-  socklen_t addr_len_ = 0;
+  std::unique_ptr<wire::SocketLink> link_;
   std::string remote_text_;
-  LinkState state_ = LinkState::Waiting;
-  bool running_ = false;
-  int fd_ = -1;
-  uint32_t events_ = 0;     // watched on fd_
-  TimerId step_timer_ = 0;  // next attempt, or the connect/handshake deadline
-  TimerId ping_timer_ = 0;
-  uint64_t backoff_us_ = 0;
-  uint64_t since_us_ = 0;
-  uint64_t last_rx_us_ = 0;
-  uint32_t seq_ = 0;
-  uint32_t connections_ = 0;
-  std::string last_error_;
-  wire::FrameReader reader_;
-  wire::MessageWriter writer_;
-  std::vector<uint8_t> out_;
-  size_t out_head_ = 0;
+  pollfd watched_[wire::kMaxAttemptsInFlight]{};
+  int watched_count_ = 0;
+  TimerId timer_ = 0;
+  uint64_t timer_at_us_ = wire::kNoDeadline;
+  bool servicing_ = false;
+  bool again_ = false;  // service() was asked for while it ran
+  bool busy_ = false;   // frames were waiting to be written
 };
 
 }  // namespace troupe::drivers::passthrough

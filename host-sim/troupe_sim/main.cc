@@ -61,11 +61,11 @@ int main(int argc, char** argv) {
   };
   // The port goes to stdout on its own line, so scripts and tests that
   // asked for port 0 can read it.
-  auto print_port = [&](uint16_t port) {
+  auto print_port = [&](troupe::Node& node) {
     if (!options.serve) return;
-    std::printf("listening on %s:%u\n", options.listen.c_str(), unsigned(port));
+    std::printf("listening on %s\n", node.listen_text().c_str());
     std::fflush(stdout);
-    troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(port));
+    troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(node.port()));
   };
 
   if (troupe::sim::is_robocup_world(options.world)) {
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     troupe::log_info("%s: a RoboCup match, %d robots, cycle %.0f ms, seed %llu", options.world.c_str(),
                      match.simulation().robot_count(), match.simulation().cycle_s() * 1e3,
                      static_cast<unsigned long long>(match.simulation().spec().seed));
-    print_port(match.port());
+    print_port(match.node());
     if (!start_viewer(match.port())) return 1;
     return match.run();
   }
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
   troupe::log_info("%s: %zu robots (%zu with controllers), step %.0f ms, seed %llu", options.world.c_str(),
                    w.robot_count(), controlled, w.interval() * 1e3,
                    static_cast<unsigned long long>(options.seed));
-  print_port(runner.port());
+  print_port(runner.node());
   // The emulated devices, one "ROBOT DEVICE PATH" line each, for scripts.
   if (!runner.emulation().empty()) {
     std::fputs(runner.emulation().info().c_str(), stdout);

@@ -23,7 +23,7 @@ const char* sim_usage() {
          "  --paused                start paused\n"
          "  --seed N                seed of every random number in the run (default 0)\n"
          "  --port P                TCP port (default 6665; 0: any free port, printed)\n"
-         "  --listen ADDR           address to listen on (default 127.0.0.1)\n"
+         "  --listen ADDR           address to listen on (default localhost: 127.0.0.1 and ::1)\n"
          "  --port-per-robot        also serve robot i alone as robot 0 on port P+1+i\n"
          "  --no-serve              no network at all (batch runs)\n"
          "  --view [P]              browser viewer on HTTP port P (default 6680; 0: any free\n"

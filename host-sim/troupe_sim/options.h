@@ -19,7 +19,7 @@ struct SimOptions {
   /// Start paused (a client resumes it through simulation:0).
   bool paused = false;
   uint64_t seed = 0;
-  std::string listen = "127.0.0.1";
+  std::string listen = "localhost";
   /// TCP port; 0 picks a free one (printed at start).
   uint16_t port = 6665;
   /// Also serve robot i alone, as robot 0, on port + 1 + i.

@@ -36,6 +36,8 @@ void BridgeSession::start(beast::http::request<beast::http::string_body> upgrade
 
 void BridgeSession::on_accept(beast::error_code ec) {
   if (ec) return;  // not a WebSocket after all; the socket just closes
+  // Tries every address the node's name resolved to, in order, until one
+  // connects (localhost: ::1 and 127.0.0.1 on a standard Debian).
   boost::asio::async_connect(node_, server_->node,
                              [self = shared_from_this()](beast::error_code connect_ec, const tcp::endpoint&) {
                                self->on_connect(connect_ec);

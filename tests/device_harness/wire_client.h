@@ -1,14 +1,16 @@
-// A wire protocol client for tests: loopback TCP, never blocking. poll()
-// takes whatever frames have arrived and files them: the newest Data frame
-// and a count per device, replies by sequence number.
+// A wire protocol client for tests: loopback TCP over the connection core
+// (wire/connection), never blocking, since the node runs in the same
+// thread. poll() takes whatever frames have arrived and files them: the
+// newest Data frame and a count per device, replies by sequence number.
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "wire/frame.h"
+#include "wire/connection/socket_link.h"
 #include "wire/writer.h"
 
 namespace troupe::testing {
@@ -16,7 +18,6 @@ namespace troupe::testing {
 class WireClient {
  public:
   WireClient() = default;
-  ~WireClient();
   WireClient(const WireClient&) = delete;
   WireClient& operator=(const WireClient&) = delete;
 
@@ -25,10 +26,12 @@ class WireClient {
   void open(const wire::Address& addr);
   /// Commands a velocity: m/s forward, rad/s.
   void send_vel(const wire::Address& addr, float v, float w);
-  /// Sends a request; the builder fills the body (may be empty). Returns
+  /// Starts a body for request(): build it in the returned builder.
+  flatbuffers::FlatBufferBuilder& begin() { return writer_.start(); }
+  /// Sends a request with the body built since begin() (or none). Returns
   /// the sequence number the reply will carry.
   uint32_t request(const wire::Address& addr, uint8_t subtype, wire::Body type = wire::Body::NONE,
-                   flatbuffers::Offset<void> (*build)(flatbuffers::FlatBufferBuilder&) = nullptr);
+                   flatbuffers::Offset<void> body = 0);
   uint32_t request_switch(const wire::Address& addr, uint8_t subtype, bool on);
 
   /// Reads and files every frame that has arrived.
@@ -45,11 +48,10 @@ class WireClient {
 
  private:
   void send(std::span<const uint8_t> frame);
+  uint32_t next_seq() { return link_->connection().next_seq(); }
 
-  int fd_ = -1;
+  std::unique_ptr<wire::SocketLink> link_;
   bool closed_ = false;
-  uint32_t seq_ = 0;
-  wire::FrameReader reader_{1u << 20};
   wire::MessageWriter writer_;
   struct Log {
     uint32_t count = 0;

@@ -62,8 +62,8 @@ class OdriveRig {
 
   emulators::odrive::Axis& left() { return *emu->axis(kLeft); }
   emulators::odrive::Axis& right() { return *emu->axis(kRight); }
-  const PositionSample& base() { return client.position(kBase); }
-  const PositionSample& other() { return client.position(kOther); }
+  PositionSample base() { return client.position(kBase); }
+  PositionSample other() { return client.position(kOther); }
 
   Node node;
   std::unique_ptr<emulators::odrive::OdriveEmulator> emu;

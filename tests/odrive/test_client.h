@@ -1,16 +1,12 @@
-// A small wire-protocol client for tests that run the node in their own
-// thread: every call is non-blocking, pump() reads what has arrived and
-// keeps the newest position2d and power data per device, and the replies.
-// (The project's client library is the one for programs; this stays
-// deliberately small so the node's own tests depend on nothing else.)
+// The odrive bench's view of the node: the device harness's wire client
+// (the connection core over loopback, non-blocking, since the node runs in
+// the test's own thread) read as position2d and power samples.
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <string>
 
-#include "wire/frame.h"
-#include "wire/writer.h"
+#include "tests/device_harness/wire_client.h"
 
 namespace troupe::testing {
 
@@ -35,18 +31,13 @@ struct Reply {
 
 class TestClient {
  public:
-  TestClient() = default;
-  ~TestClient();
-  TestClient(const TestClient&) = delete;
-  TestClient& operator=(const TestClient&) = delete;
-
   /// Connects to 127.0.0.1:`port`. The node accepts in its loop later.
   bool connect(uint16_t port, std::string& error);
-  bool connected() const { return fd_ >= 0; }
+  bool connected() const { return connected_ && !client_.closed(); }
 
-  void open(const wire::Address& addr);
+  void open(const wire::Address& addr) { client_.open(addr); }
   /// position2d Vel command: m/s, rad/s.
-  void command_vel(const wire::Address& addr, float v, float w);
+  void command_vel(const wire::Address& addr, float v, float w) { client_.send_vel(addr, v, w); }
   /// A position2d request; returns the seq its reply will carry.
   uint32_t request_motor_power(const wire::Address& addr, bool on);
   uint32_t request_reset_odometry(const wire::Address& addr);
@@ -56,26 +47,18 @@ class TestClient {
   /// Reads everything available now. False once the connection failed.
   bool pump();
 
-  const PositionSample& position(const wire::Address& addr) { return positions_[wire::address_key(addr)]; }
-  const PowerSample& power(const wire::Address& addr) { return powers_[wire::address_key(addr)]; }
+  /// The newest sample of a device and how many came.
+  PositionSample position(const wire::Address& addr) const;
+  PowerSample power(const wire::Address& addr) const;
   /// The reply to request `seq`, kind Invalid until it came.
   Reply reply(uint32_t seq) const;
   /// The last Geometry Ack's size: m.
   float geometry_length = 0, geometry_width = 0;
 
  private:
-  void send(std::span<const uint8_t> frame);
-  void handle(const wire::Message& msg);
-  uint32_t request(const wire::Address& addr, wire::Position2dReqSub sub, wire::Body type,
-                   flatbuffers::Offset<void> body);
-
-  int fd_ = -1;
-  uint32_t seq_ = 0;
-  wire::MessageWriter writer_;
-  wire::FrameReader reader_{1u << 20};
-  std::map<uint64_t, PositionSample> positions_;
-  std::map<uint64_t, PowerSample> powers_;
-  std::map<uint32_t, Reply> replies_;
+  WireClient client_;
+  bool connected_ = false;
+  uint32_t geometry_seq_ = 0;
 };
 
 }  // namespace troupe::testing

@@ -41,12 +41,13 @@ std::string robot_config() {
     "driver": { "max_speed": 1.0, "max_accel": 2.0, "rate_hz": 20 }, "provides": ["position2d:0"] } ] })";
 }
 
-// A desktop forwarding `remote` of 127.0.0.1:`port` as `local`, with a
-// status device opaque:0.
+// A desktop forwarding `remote` of `host`:`port` as `local`, with a status
+// device opaque:0.
 std::string passthrough_config(const std::string& name, uint16_t port, const std::string& remote,
-                               const std::string& local, const std::string& extra = "") {
+                               const std::string& local, const std::string& extra = "",
+                               const std::string& host = "127.0.0.1") {
   return R"({ "name": ")" + name + R"(", "drivers": [ { "driver_type": "passthrough",
-    "driver": { "host": "127.0.0.1", "port": )" +
+    "driver": { "host": ")" + host + R"(", "port": )" +
          std::to_string(port) + R"(, "remote": [")" + remote + R"("],
                 "backoff_min": 0.05, "backoff_max": 0.5)" +
          extra + R"( },
@@ -71,18 +72,20 @@ class Passthrough : public ::testing::Test {
     remove_tree(dir_);
   }
 
-  // Starts troupe-node with `json` on `port` and waits until it listens.
-  void start_node(ChildProcess& p, const std::string& name, const std::string& json, uint16_t port) {
+  // Starts troupe-node with `json` on `port` and waits until it listens
+  // (on 127.0.0.1; with `listen` given, on that address, and no waiting).
+  void start_node(ChildProcess& p, const std::string& name, const std::string& json, uint16_t port,
+                  const std::string& listen = "") {
     std::string path = dir_ + "/" + name + ".json";
     FILE* f = std::fopen(path.c_str(), "w");
     ASSERT_NE(f, nullptr);
     std::fputs(json.c_str(), f);
     std::fclose(f);
     std::string error;
-    ASSERT_TRUE(p.start_logged({kNode, path, "--port", std::to_string(port), "--log-level", "debug"},
-                               dir_ + "/" + name + ".log", error))
-        << error;
-    ASSERT_TRUE(wait_for_listener(port, kDeadlineS)) << name << " does not listen on " << port;
+    std::vector<std::string> args = {kNode, path, "--port", std::to_string(port), "--log-level", "debug"};
+    if (!listen.empty()) args.insert(args.end(), {"--listen", listen});
+    ASSERT_TRUE(p.start_logged(args, dir_ + "/" + name + ".log", error)) << error;
+    if (listen.empty()) ASSERT_TRUE(wait_for_listener(port, kDeadlineS)) << name << " does not listen on " << port;
   }
 
   // Connects `c` and follows the status device's text into status_.
@@ -188,6 +191,33 @@ TEST_F(Passthrough, ChainsThroughASecondPassthrough) {
   Reply r = c.request(pos.address(), uint8_t(wire::Position2dReqSub::Geometry));
   ASSERT_TRUE(r.ok()) << r.text;
   EXPECT_NE(r.message()->body_as_Position2dGeometry(), nullptr);
+}
+
+TEST_F(Passthrough, ReachesARemoteOnIpv6AndOneByLocalhost) {
+  // The robot listens on ::1 only: the desktop names it by address; a second
+  // desktop names it `localhost`, which the hosts file may give as ::1 or
+  // 127.0.0.1 or both: every address is tried, so ::1 is found either way
+  // when the hosts file has it, and the robot is on both loopbacks below.
+  start_node(robot_, "robot", robot_config(), robot_port_, "::1");
+  start_node(desktop_, "desktop",
+             passthrough_config("desktop", robot_port_, "position2d:0", "position2d:0", "", "::1"), desktop_port_);
+  Client c("127.0.0.1", desktop_port_);
+  watch_status(c);
+  ASSERT_TRUE(spin_until(c, [&] { return status_has("\"state\":\"connected\""); })) << status_;
+  EXPECT_TRUE(status_has("\"remote\":\"[::1]:" + std::to_string(robot_port_) + "\"")) << status_;
+  Position2dProxy pos(c, 0);
+  ASSERT_TRUE(spin_until(c, [&] { return pos.samples() >= 2; })) << "no data from the IPv6 robot";
+
+  uint16_t middle_port = free_port();
+  robot_.stop();
+  start_node(robot_, "robot", robot_config(), robot_port_, "localhost");
+  start_node(middle_, "middle",
+             passthrough_config("middle", robot_port_, "position2d:0", "position2d:0", "", "localhost"),
+             middle_port);
+  Client m("127.0.0.1", middle_port);
+  ASSERT_TRUE(m.connect(5000)) << m.error();
+  Position2dProxy via_localhost(m, 0);
+  ASSERT_TRUE(spin_until(m, [&] { return via_localhost.samples() >= 2; })) << "no data through localhost";
 }
 
 TEST_F(Passthrough, ARemoteThatNeverAnswersDoesNotStallTheNode) {

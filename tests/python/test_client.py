@@ -3,6 +3,7 @@ position2d:0 at 10 Hz) over TCP: session, proxies, requests, delivery modes,
 errors, and reconnecting when the node comes back."""
 
 import math
+import socket
 import time
 import unittest
 
@@ -186,6 +187,33 @@ class Errors(WithNode):
         self.assertIn("cannot resolve host 'no-such-host.invalid'", nowhere.error)
         self.assertFalse(nowhere.command(troupe.Address(0, 1, 0), 1))
         self.assertEqual(nowhere.request(troupe.Address(0, 1, 0), 1).status, troupe.Reply.DISCONNECTED)
+
+
+def debian_localhost(host: str, port: int) -> list:
+    """localhost as a standard Debian 12 resolves it: ::1 first, then 127.0.0.1."""
+    assert host == "localhost"
+    return [(socket.AF_INET6, ("::1", port, 0, 0)), (socket.AF_INET, ("127.0.0.1", port))]
+
+
+class Localhost(unittest.TestCase):
+    def test_v6_first_still_reaches_a_node_on_v4_only(self):
+        port = helpers.free_port()
+        with helpers.kinematic_node(port):  # listens on 127.0.0.1 only
+            client = troupe.Client("localhost", port, reconnect=False, resolver=debian_localhost)
+            self.assertEqual(client.state, "idle")
+            self.assertTrue(client.connect(3.0), client.error)
+            self.assertEqual(client.state, "up")
+            self.assertEqual([d.text() for d in client.device_list()], ["position2d:0"])
+            client.shutdown()
+            self.assertEqual(client.state, "idle")
+
+    def test_nothing_listening_is_one_clear_error(self):
+        port = helpers.free_port()
+        client = troupe.Client("localhost", port, resolver=debian_localhost)
+        self.assertFalse(client.connect(3.0))
+        self.assertEqual(client.error, f"cannot connect to localhost:{port}: Connection refused")
+        self.assertEqual(client.state, "waiting")
+        client.shutdown()
 
 
 class Reconnect(unittest.TestCase):

@@ -21,7 +21,7 @@
 #include "runtime/node.h"
 #include "wire/client/client.h"
 #include "wire/record/log_file.h"
-#include "wire/record/replay_driver.h"
+#include "drivers/replay/replay_driver.h"
 #include "wire/writer.h"
 
 namespace {
@@ -130,11 +130,11 @@ Lateness replay(const std::string& path, uint64_t period_us, double speed) {
   Node::Options o;
   o.port = 0;
   Node node(o);
-  record::ReplayDriver::Options ro;
+  drivers::replay::ReplayDriver::Options ro;
   ro.path = path;
   ro.speed = speed;
   ro.wait_for_readers = true;
-  auto* driver = new record::ReplayDriver(ro);
+  auto* driver = new drivers::replay::ReplayDriver(ro);
   DeviceId id = node.add_device(kLaser, driver, "replay");
   DriverSetup setup;
   setup.provides = {&id, 1};

@@ -59,7 +59,7 @@ TEST_F(ConfigTest, GoodConfigBuildsItsDevices) {
   Node::Options o = node_options(*cfg.root);
   EXPECT_EQ(o.name, "base");
   EXPECT_EQ(o.port, 7001);
-  EXPECT_EQ(o.listen, "127.0.0.1");  // the default when the config says nothing
+  EXPECT_EQ(o.listen, "localhost");  // the default when the config says nothing: both loopbacks
   Node node(o);
   ASSERT_TRUE(build_node(node, cfg, error)) << error;
   EXPECT_EQ(node.device_count(), 1u);

@@ -8,10 +8,8 @@
 
 #include "flatbuffers/idl.h"
 #include "wire/address.h"
+#include "wire/body_copy.h"
 #include "wire/cli/cli.h"
-
-extern const unsigned char troupe_message_bfbs[];
-extern const unsigned troupe_message_bfbs_size;
 
 namespace troupe::cli {
 namespace {
@@ -40,7 +38,8 @@ flatbuffers::Parser& schema() {
     opts.strict_json = true;
     opts.indent_step = -1;  // one line
     auto p = std::make_unique<flatbuffers::Parser>(opts);
-    p->Deserialize(troupe_message_bfbs, troupe_message_bfbs_size);
+    std::span<const uint8_t> bfbs = wire::message_schema();
+    p->Deserialize(bfbs.data(), bfbs.size());
     return p;
   }();
   return *parser;

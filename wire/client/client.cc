@@ -1,35 +1,40 @@
 #include "wire/client/client.h"
 
-#include <arpa/inet.h>
-#include <fcntl.h>
-#include <netdb.h>
 #include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
-#include <ctime>
 
 #include "wire/address.h"
 #include "wire/client/proxy.h"
+#include "wire/clock.h"
 
 namespace troupe::client {
 namespace {
 
-uint64_t now_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000u + uint64_t(ts.tv_nsec) / 1000u;
-}
+using wire::monotonic_us;
 
 std::string describe_error(const wire::Message& msg) {
   const wire::Error* e = msg.body_as_Error();
   if (e == nullptr) return "refused";
   std::string text = e->text() ? e->text()->str() : std::string();
   return text.empty() ? std::string(wire::EnumNameErrorCode(e->code())) : text;
+}
+
+wire::ConnectionOptions connection_options(const std::string& host, uint16_t port, const Client::Options& o) {
+  wire::ConnectionOptions c;
+  c.name = o.name;
+  bool v6 = host.find(':') != std::string::npos && host.front() != '[';
+  c.target = (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
+  c.limits = o.limits;
+  c.reconnect = o.reconnect;
+  c.backoff_min_us = uint64_t(o.reconnect_min_ms) * 1000u;
+  c.backoff_max_us = uint64_t(std::max(o.reconnect_max_ms, o.reconnect_min_ms)) * 1000u;
+  c.keepalive_us = uint64_t(o.keepalive_ms) * 1000u;
+  c.keepalive_timeout_us = uint64_t(o.keepalive_timeout_ms) * 1000u;
+  return c;
 }
 
 }  // namespace
@@ -39,25 +44,63 @@ std::string DeviceEntry::text() const { return wire::format_address(addr, robot_
 Client::Client(std::string host, uint16_t port) : Client(std::move(host), port, Options{}) {}
 
 Client::Client(std::string host, uint16_t port, Options options)
-    : host_(std::move(host)), port_(port), options_(std::move(options)), reader_(options_.limits.max_frame_bytes) {}
+    : host_(std::move(host)),
+      options_(std::move(options)),
+      link_(host_, port, connection_options(host_, port, options_), options_.resolver) {
+  if (options_.udp_data) open_udp();
+}
 
 Client::~Client() {
   for (Proxy* p : proxies_) p->client_ = nullptr;
-  if (fd_ >= 0) ::close(fd_);
   if (udp_fd_ >= 0) ::close(udp_fd_);
 }
 
-bool Client::connected() const { return state_ == State::Connected; }
+bool Client::connected() const { return link_.connection().up(); }
+
+void Client::open_udp() {
+  // One socket for both families (IPv6 with IPv4-mapped addresses), so it
+  // serves whichever address of the host the connection ends up on.
+  sockaddr_in6 any6{};
+  any6.sin6_family = AF_INET6;
+  udp_fd_ = socket(AF_INET6, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  int off = 0;
+  if (udp_fd_ >= 0 && (setsockopt(udp_fd_, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off) != 0 ||
+                       bind(udp_fd_, reinterpret_cast<sockaddr*>(&any6), sizeof any6) != 0)) {
+    ::close(udp_fd_);
+    udp_fd_ = -1;
+  }
+  if (udp_fd_ < 0) {  // a host without IPv6
+    sockaddr_in any4{};
+    any4.sin_family = AF_INET;
+    udp_fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (udp_fd_ >= 0 && bind(udp_fd_, reinterpret_cast<sockaddr*>(&any4), sizeof any4) != 0) {
+      ::close(udp_fd_);
+      udp_fd_ = -1;
+    }
+  }
+  sockaddr_storage bound{};
+  socklen_t len = sizeof bound;
+  if (udp_fd_ < 0 || getsockname(udp_fd_, reinterpret_cast<sockaddr*>(&bound), &len) != 0) return;
+  uint16_t port = ntohs(bound.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port
+                                                    : reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+  link_.connection().set_udp_port(port);
+}
 
 bool Client::connect(int timeout_ms) {
-  if (state_ == State::Idle && !start_connect()) return false;
-  uint64_t deadline = now_us() + uint64_t(std::max(timeout_ms, 0)) * 1000u;
-  // Connected means the TimeSync sent with the handshake has come back
-  // too: clock_offset_us() is valid when this returns true.
-  while (state_ == State::Connecting || state_ == State::Handshake || (connected() && !time_synced_)) {
-    uint64_t now = now_us();
+  if (state() == wire::LinkState::Idle || state() == wire::LinkState::Waiting) link_.start();
+  dispatch_events();
+  uint64_t deadline = monotonic_us() + uint64_t(std::max(timeout_ms, 0)) * 1000u;
+  // Connected means the TimeSync sent with the Hello has come back too:
+  // clock_offset_us() is valid when this returns true.
+  auto pending = [&] {
+    wire::LinkState s = state();
+    return s == wire::LinkState::Connecting || s == wire::LinkState::Handshake ||
+           (s == wire::LinkState::Up && !link_.connection().clock_synced());
+  };
+  while (pending()) {
+    uint64_t now = monotonic_us();
     if (now >= deadline) {
-      error_ = "timed out connecting to " + host_ + ":" + std::to_string(port_);
+      error_ = "timed out connecting to " + link_.connection().options().target;
       return false;
     }
     spin_once(int((deadline - now + 999) / 1000));
@@ -65,143 +108,47 @@ bool Client::connect(int timeout_ms) {
   return connected();
 }
 
-bool Client::start_connect() {
-  reconnect_at_us_ = 0;
-  addrinfo hints{};
-  hints.ai_family = AF_UNSPEC;
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_NUMERICSERV;
-  addrinfo* found = nullptr;
-  std::string port_text = std::to_string(port_);
-  int rc = getaddrinfo(host_.c_str(), port_text.c_str(), &hints, &found);
-  if (rc != 0) {
-    error_ = "cannot resolve host '" + host_ + "': " + gai_strerror(rc);
-    schedule_reconnect();
-    return false;
-  }
-  int last_errno = 0;
-  for (addrinfo* ai = found; ai != nullptr; ai = ai->ai_next) {
-    int fd = socket(ai->ai_family, ai->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, ai->ai_protocol);
-    if (fd < 0) continue;
-    int one = 1;
-    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    if (::connect(fd, ai->ai_addr, ai->ai_addrlen) == 0 || errno == EINPROGRESS) {
-      fd_ = fd;
-      break;
-    }
-    last_errno = errno;
-    ::close(fd);
-  }
-  int family = found ? found->ai_family : AF_INET;
-  freeaddrinfo(found);
-  if (fd_ < 0) {
-    error_ = "cannot connect to " + host_ + ":" + port_text + ": " + strerror(last_errno);
-    schedule_reconnect();
-    return false;
-  }
-  if (options_.udp_data && udp_fd_ < 0) {
-    udp_fd_ = socket(family, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    sockaddr_storage any{};
-    any.ss_family = sa_family_t(family);
-    socklen_t len = family == AF_INET6 ? sizeof(sockaddr_in6) : sizeof(sockaddr_in);
-    if (udp_fd_ >= 0 && bind(udp_fd_, reinterpret_cast<sockaddr*>(&any), len) == 0 &&
-        getsockname(udp_fd_, reinterpret_cast<sockaddr*>(&any), &len) == 0) {
-      udp_port_ = ntohs(family == AF_INET6 ? reinterpret_cast<sockaddr_in6*>(&any)->sin6_port
-                                           : reinterpret_cast<sockaddr_in*>(&any)->sin_port);
-    }
-  }
-  state_ = State::Connecting;
-  return true;
-}
-
-void Client::on_connected() {
-  state_ = State::Handshake;
-  hello_seen_ = false;
-  time_synced_ = false;
-  auto& b = control_writer_.start();
-  auto hello = wire::CreateHello(b, wire::kProtocolVersion, b.CreateString(options_.name),
-                                 options_.limits.max_frame_bytes, udp_port_, now_us());
-  queue(control_writer_.finish(wire::make_header({}, wire::Kind::Hello, 0, 0, now_us()), wire::Body::Hello,
-                               hello.Union()));
-  time_sync_seq_ = next_seq();
-  auto& t = control_writer_.start();
-  auto sync = wire::CreateTimeSync(t, now_us(), 0, 0);
-  queue(control_writer_.finish(wire::make_header({}, wire::Kind::TimeSync, 0, time_sync_seq_, now_us()),
-                               wire::Body::TimeSync, sync.Union()));
+void Client::on_up() {
   // Devices opened before a reconnect are opened again; their Acks need no
   // waiting (a Nack shows up in error()).
   for (const Opened& o : opened_) {
     auto& ob = control_writer_.start();
     auto open = wire::CreateOpen(ob, o.access, o.delivery);
-    queue(control_writer_.finish(wire::make_header(o.addr, wire::Kind::Open, 0, next_seq(), now_us()),
+    queue(control_writer_.finish(wire::make_header(o.addr, wire::Kind::Open, 0, next_seq(), monotonic_us()),
                                  wire::Body::Open, open.Union()));
   }
 }
 
-void Client::disconnect(const std::string& why) {
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
-  state_ = State::Idle;
+void Client::on_down(std::string_view why) {
   error_ = why;
-  reader_ = wire::FrameReader(options_.limits.max_frame_bytes);
-  out_.clear();
-  out_head_ = 0;
   if (awaited_seq_ != 0 && !awaited_done_) {
     awaited_ = Reply{};
     awaited_.status = Reply::Status::Disconnected;
     awaited_.text = why;
     awaited_done_ = true;
   }
-  schedule_reconnect();
-}
-
-void Client::schedule_reconnect() {
-  if (!options_.reconnect) return;
-  backoff_ms_ = backoff_ms_ == 0 ? options_.reconnect_min_ms : std::min(backoff_ms_ * 2, options_.reconnect_max_ms);
-  reconnect_at_us_ = now_us() + uint64_t(backoff_ms_) * 1000u;
 }
 
 int Client::poll_fds(pollfd* fds, int max) const {
-  int n = 0;
-  if (fd_ >= 0 && n < max) {
-    short events = POLLIN;
-    if (state_ == State::Connecting || out_head_ < out_.size()) events |= POLLOUT;
-    fds[n++] = pollfd{fd_, events, 0};
-  }
-  if (udp_fd_ >= 0 && n < max) fds[n++] = pollfd{udp_fd_, POLLIN, 0};
+  int n = link_.poll_fds(fds, max);
+  // Datagrams come only on an established connection; while two attempts
+  // are in flight this keeps the set at two.
+  if (udp_fd_ >= 0 && link_.fd() >= 0 && n < max) fds[n++] = pollfd{udp_fd_, POLLIN, 0};
   return n;
 }
 
-int Client::next_timeout_ms() const {
-  if (state_ != State::Idle || reconnect_at_us_ == 0) return -1;
-  uint64_t now = now_us();
-  return reconnect_at_us_ > now ? int((reconnect_at_us_ - now + 999) / 1000) : 0;
-}
+int Client::next_timeout_ms() const { return link_.next_timeout_ms(); }
 
 void Client::process(const pollfd* fds, int n) {
+  link_.process(fds, n);
   for (int i = 0; i < n; ++i) {
-    if (fds[i].revents == 0) continue;
-    if (fds[i].fd == fd_ && fd_ >= 0) {
-      if (state_ == State::Connecting) {
-        int err = 0;
-        socklen_t len = sizeof err;
-        getsockopt(fd_, SOL_SOCKET, SO_ERROR, &err, &len);
-        if (err != 0) {
-          disconnect("cannot connect to " + host_ + ":" + std::to_string(port_) + ": " + strerror(err));
-          continue;
-        }
-        on_connected();
-      }
-      if (fds[i].revents & POLLOUT) flush();
-      if (fd_ >= 0 && (fds[i].revents & (POLLIN | POLLHUP | POLLERR))) read_tcp();
-    } else if (fds[i].fd == udp_fd_ && (fds[i].revents & POLLIN)) {
-      read_udp();
-    }
+    if (udp_fd_ >= 0 && fds[i].fd == udp_fd_ && (fds[i].revents & POLLIN)) read_udp();
   }
-  if (state_ == State::Idle && reconnect_at_us_ != 0 && now_us() >= reconnect_at_us_) start_connect();
+  dispatch_events();
 }
 
 bool Client::spin_once(int timeout_ms) {
+  dispatch_events();
   pollfd fds[2];
   int n = poll_fds(fds, 2);
   int wait = timeout_ms;
@@ -217,36 +164,8 @@ bool Client::spin_once(int timeout_ms) {
 }
 
 void Client::spin_for(int ms) {
-  uint64_t deadline = now_us() + uint64_t(std::max(ms, 0)) * 1000u;
-  for (uint64_t now = now_us(); now < deadline; now = now_us()) spin_once(int((deadline - now + 999) / 1000));
-}
-
-void Client::read_tcp() {
-  for (int round = 0; round < 16 && fd_ >= 0; ++round) {
-    std::span<uint8_t> space = reader_.write_space(16 * 1024);
-    ssize_t n = recv(fd_, space.data(), space.size(), MSG_DONTWAIT);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      if (errno != EAGAIN && errno != EWOULDBLOCK) disconnect("connection to " + host_ + " lost: " + strerror(errno));
-      return;
-    }
-    if (n == 0) {
-      // Keep the node's own explanation if it sent one before closing.
-      disconnect(error_.rfind("node closed", 0) == 0 ? error_ : "connection to " + host_ + " closed by the node");
-      return;
-    }
-    reader_.commit(size_t(n));
-    for (;;) {
-      std::span<const uint8_t> frame = reader_.next();
-      if (frame.empty()) break;
-      dispatch(frame);
-      if (fd_ < 0) return;
-    }
-    if (reader_.too_large()) {
-      disconnect("node sent a frame over the limit (" + std::to_string(reader_.announced_bytes()) + " bytes)");
-      return;
-    }
-  }
+  uint64_t deadline = monotonic_us() + uint64_t(std::max(ms, 0)) * 1000u;
+  for (uint64_t now = monotonic_us(); now < deadline; now = monotonic_us()) spin_once(int((deadline - now + 999) / 1000));
 }
 
 void Client::read_udp() {
@@ -256,120 +175,73 @@ void Client::read_udp() {
     if (n <= 0) return;
     const wire::Message* msg = wire::verify_frame({buf, size_t(n)}, options_.limits);
     // Only Data travels by datagram; anything else is noise.
-    if (msg != nullptr && msg->header()->kind() == wire::Kind::Data) dispatch({buf, size_t(n)});
+    if (msg != nullptr && msg->header()->kind() == wire::Kind::Data) on_frame({buf, size_t(n)}, *msg);
   }
 }
 
-void Client::dispatch(std::span<const uint8_t> frame) {
-  wire::VerifyError why{};
-  const wire::Message* msg = wire::verify_frame(frame, options_.limits, &why);
-  if (msg == nullptr) {
-    disconnect("bad frame from the node: " + std::string(wire::verify_error_text(why)));
-    return;
-  }
-  const wire::Header& h = *msg->header();
-  switch (h.kind()) {
-    case wire::Kind::Hello: {
-      const wire::Hello* hello = msg->body_as_Hello();
-      if (hello == nullptr) break;
-      if (hello->protocol_version() != wire::kProtocolVersion) {
-        disconnect("node speaks protocol " + std::to_string(hello->protocol_version()) + ", this client " +
-                   std::to_string(wire::kProtocolVersion));
-        return;
-      }
-      node_name_ = hello->name() ? hello->name()->str() : std::string();
-      state_ = State::Connected;
-      ++connections_;
-      backoff_ms_ = 0;
-      break;
+void Client::dispatch_events() {
+  for (wire::Event e = link_.next_event(); e.kind != wire::EventKind::None; e = link_.next_event()) {
+    switch (e.kind) {
+      case wire::EventKind::Up: on_up(); break;
+      case wire::EventKind::Down: on_down(e.text); break;
+      case wire::EventKind::Synced:
+      case wire::EventKind::Frame: on_frame(e.frame, *e.message); break;
+      case wire::EventKind::None: break;
     }
+  }
+}
+
+void Client::on_frame(std::span<const uint8_t> frame, const wire::Message& msg) {
+  const wire::Header& h = *msg.header();
+  switch (h.kind()) {
     case wire::Kind::Data:
       for (Proxy* p : proxies_) {
-        if (p->address() == h.addr()) p->receive(*msg);
+        if (p->address() == h.addr()) p->receive(msg);
       }
-      for (auto& [id, handler] : handlers_) handler(*msg);
+      for (auto& [id, handler] : handlers_) handler(msg);
       break;
     case wire::Kind::TimeSync:
-      if (awaited_seq_ != 0 && h.seq() == awaited_seq_) {
-        awaited_ = Reply{};
-        awaited_.status = Reply::Status::Ack;
-        awaited_.frame.assign(frame.begin(), frame.end());
-        awaited_done_ = true;
-      }
-      if (h.seq() == time_sync_seq_ || h.seq() == awaited_seq_) {
-        if (const wire::TimeSync* t = msg->body_as_TimeSync()) {
-          int64_t t0 = int64_t(t->client_send_us()), t1 = int64_t(t->node_recv_us());
-          int64_t t2 = int64_t(t->node_send_us()), t3 = int64_t(now_us());
-          clock_offset_us_ = ((t1 - t0) + (t2 - t3)) / 2;
-        }
-        time_synced_ = true;
-      }
-      break;
     case wire::Kind::Ack:
     case wire::Kind::Nack:
     case wire::Kind::DeviceList:
-      if (h.kind() == wire::Kind::Nack) error_ = describe_error(*msg);
+      if (h.kind() == wire::Kind::Nack) error_ = describe_error(msg);
       if (awaited_seq_ != 0 && h.seq() == awaited_seq_ && !awaited_done_) {
         awaited_ = Reply{};
         awaited_.status = h.kind() == wire::Kind::Nack ? Reply::Status::Nack : Reply::Status::Ack;
         awaited_.frame.assign(frame.begin(), frame.end());
         if (h.kind() == wire::Kind::Nack) {
-          const wire::Error* e = msg->body_as_Error();
+          const wire::Error* e = msg.body_as_Error();
           awaited_.code = e ? e->code() : wire::ErrorCode::Unknown;
           awaited_.text = error_;
         }
         awaited_done_ = true;
       }
       break;
-    case wire::Kind::Error:
-      // The node closes the connection after an Error; remember why.
-      error_ = "node closed the connection: " + describe_error(*msg);
-      break;
     default: break;
   }
 }
 
-void Client::flush() {
-  if (fd_ < 0 || state_ == State::Connecting) return;
-  while (out_head_ < out_.size()) {
-    ssize_t n = send(fd_, out_.data() + out_head_, out_.size() - out_head_, MSG_NOSIGNAL | MSG_DONTWAIT);
-    if (n > 0) {
-      out_head_ += size_t(n);
-      continue;
-    }
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
-    disconnect("connection to " + host_ + " lost: " + strerror(errno));
-    return;
-  }
-  out_.clear();
-  out_head_ = 0;
-}
-
 bool Client::queue(std::span<const uint8_t> frame) {
-  if (state_ == State::Idle) return false;
-  if (out_head_ > 0 && out_head_ >= out_.size() / 2) {
-    out_.erase(out_.begin(), out_.begin() + long(out_head_));
-    out_head_ = 0;
+  if (!link_.send(frame)) {
+    if (!connected()) error_ = "not connected to " + host_;
+    return false;
   }
-  out_.insert(out_.end(), frame.begin(), frame.end());
-  flush();
-  return fd_ >= 0;
+  return true;
 }
 
 bool Client::send_frame(std::span<const uint8_t> frame) { return queue(frame); }
 
 bool Client::send_simple(const wire::Address& addr, wire::Kind kind, uint32_t seq, wire::Body type,
                          flatbuffers::Offset<void> body) {
-  return queue(writer_.finish(wire::make_header(addr, kind, 0, seq, now_us()), type, body));
+  return queue(writer_.finish(wire::make_header(addr, kind, 0, seq, monotonic_us()), type, body));
 }
 
 Reply Client::wait_reply(uint32_t seq, int timeout_ms) {
   awaited_seq_ = seq;
   awaited_done_ = false;
-  uint64_t deadline = now_us() + uint64_t(std::max(timeout_ms, 0)) * 1000u;
+  uint64_t deadline = monotonic_us() + uint64_t(std::max(timeout_ms, 0)) * 1000u;
   while (!awaited_done_) {
-    uint64_t now = now_us();
+    uint64_t now = monotonic_us();
     if (now >= deadline) break;
     spin_once(int((deadline - now + 999) / 1000));
   }
@@ -387,19 +259,14 @@ Reply Client::wait_reply(uint32_t seq, int timeout_ms) {
 }
 
 bool Client::command(const wire::Address& addr, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body) {
-  if (state_ == State::Idle) {
-    error_ = "not connected to " + host_;
-    return false;
-  }
-  return queue(writer_.finish(wire::make_header(addr, wire::Kind::Command, subtype, next_seq(), now_us()), type,
+  return queue(writer_.finish(wire::make_header(addr, wire::Kind::Command, subtype, next_seq(), monotonic_us()), type,
                               body));
 }
 
 Reply Client::request(const wire::Address& addr, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body,
                       int timeout_ms) {
   uint32_t seq = next_seq();
-  if (state_ == State::Idle ||
-      !queue(writer_.finish(wire::make_header(addr, wire::Kind::Request, subtype, seq, now_us()), type, body))) {
+  if (!queue(writer_.finish(wire::make_header(addr, wire::Kind::Request, subtype, seq, monotonic_us()), type, body))) {
     Reply r;
     r.status = Reply::Status::Disconnected;
     r.text = "not connected to " + host_;
@@ -410,10 +277,8 @@ Reply Client::request(const wire::Address& addr, uint8_t subtype, wire::Body typ
 }
 
 bool Client::sync(int timeout_ms) {
-  uint32_t seq = next_seq();
-  auto& b = writer_.start();
-  auto body = wire::CreateTimeSync(b, now_us(), 0, 0);
-  if (!send_simple({}, wire::Kind::TimeSync, seq, wire::Body::TimeSync, body.Union())) {
+  uint32_t seq = link_.request_time_sync();
+  if (seq == 0) {
     error_ = "not connected to " + host_;
     return false;
   }

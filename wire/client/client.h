@@ -1,8 +1,10 @@
 // The C++ client: a connection to a node or simulator, usable blocking
 // (connect(), request(), spin_once()) or from the caller's own poll loop
-// (poll_fds(), process(), next_timeout_ms()). A lost connection is noticed
-// and re-established with backoff; devices opened before are opened again
-// and proxies keep working without the caller rebuilding anything.
+// (poll_fds(), process(), next_timeout_ms()). The connection itself (every
+// address of the host tried, Hello, TimeSync, keep-alive, reconnection with
+// backoff) is the connection core's (wire/connection); this adds requests,
+// devices and proxies. After a reconnection the devices opened before are
+// opened again and proxies keep working without the caller rebuilding anything.
 #pragma once
 
 #include <poll.h>
@@ -15,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "wire/connection/socket_link.h"
 #include "wire/frame.h"
 #include "wire/writer.h"
 
@@ -62,6 +65,13 @@ class Client {
     uint32_t reconnect_max_ms = 2000;
     /// Ask the node to send Data as UDP datagrams (latest wins) instead of TCP.
     bool udp_data = false;
+    /// After this long without hearing from the node a TimeSync goes out,
+    /// ms (0: no keep-alive); a node that answers nothing within
+    /// keepalive_timeout_ms of it is dropped (and reconnected).
+    uint32_t keepalive_ms = 2000;
+    uint32_t keepalive_timeout_ms = 6000;
+    /// Looks up the host: every address it gives is tried, in order.
+    wire::Resolver resolver = wire::resolve_system;
   };
 
   Client(std::string host, uint16_t port = wire::kDefaultPort);
@@ -78,17 +88,17 @@ class Client {
   /// The last problem: resolution, connection, a Nack, an Error from the node.
   const std::string& error() const { return error_; }
   /// The node's name from its Hello.
-  const std::string& node_name() const { return node_name_; }
+  const std::string& node_name() const { return link_.connection().peer_name(); }
   /// Node clock minus this process's monotonic clock, us, from TimeSync at
   /// connect (valid once connect() returned true; 0 before). From a
   /// simulator, node time is simulated time. Add it to local time to get node time.
-  int64_t clock_offset_us() const { return clock_offset_us_; }
+  int64_t clock_offset_us() const { return link_.connection().clock_offset_us(); }
   /// A round trip to the node (TimeSync): when it returns true, everything
   /// sent before it was handled (commands given to their drivers) and any
   /// reply or Nack it caused has arrived. Refreshes clock_offset_us().
   bool sync(int timeout_ms = 2000);
   /// Successful connections so far (1 after the first connect).
-  uint32_t connections() const { return connections_; }
+  uint32_t connections() const { return link_.connection().connections(); }
 
   // ---- Devices --------------------------------------------------------------
 
@@ -138,7 +148,8 @@ class Client {
   // ---- Running from the caller's poll loop ------------------------------------
 
   /// The descriptors to poll, with their events; returns how many were
-  /// written (at most `max`; 2 is always enough).
+  /// written (at most `max`; 2 is always enough: two connection attempts,
+  /// or the connection and its UDP socket).
   int poll_fds(pollfd* fds, int max) const;
   /// Handles what poll() reported (the same array), then timers.
   void process(const pollfd* fds, int n);
@@ -147,23 +158,23 @@ class Client {
 
  private:
   friend class Proxy;
-  enum class State { Idle, Connecting, Handshake, Connected };
   struct Opened {
     wire::Address addr;
     wire::Access access;
     wire::Delivery delivery;
   };
 
-  bool start_connect();
-  void on_connected();
-  void disconnect(const std::string& why);
-  void schedule_reconnect();
-  void read_tcp();
+  wire::LinkState state() const { return link_.connection().state(); }
+  /// Takes the connection's events: frames to proxies and handlers, replies
+  /// to the call waiting for them.
+  void dispatch_events();
+  void on_up();
+  void on_down(std::string_view why);
+  void on_frame(std::span<const uint8_t> frame, const wire::Message& msg);
+  void open_udp();
   void read_udp();
-  void dispatch(std::span<const uint8_t> frame);
-  void flush();
   bool queue(std::span<const uint8_t> frame);
-  uint32_t next_seq() { return ++seq_; }
+  uint32_t next_seq() { return link_.connection().next_seq(); }
   Reply wait_reply(uint32_t seq, int timeout_ms);
   bool send_simple(const wire::Address& addr, wire::Kind kind, uint32_t seq, wire::Body type = wire::Body::NONE,
                    flatbuffers::Offset<void> body = 0);
@@ -171,25 +182,12 @@ class Client {
   void remove_proxy(Proxy* proxy);
 
   std::string host_;
-  uint16_t port_;
   Options options_;
-  State state_ = State::Idle;
-  int fd_ = -1;
+  wire::SocketLink link_;
   int udp_fd_ = -1;
-  uint16_t udp_port_ = 0;
   std::string error_;
-  std::string node_name_;
-  int64_t clock_offset_us_ = 0;
-  uint32_t connections_ = 0;
-  uint32_t seq_ = 0;
-  uint64_t reconnect_at_us_ = 0;
-  uint32_t backoff_ms_ = 0;
-  uint32_t time_sync_seq_ = 0;
-  wire::FrameReader reader_;
   wire::MessageWriter writer_;
   wire::MessageWriter control_writer_;  // session messages while writer_ holds a body
-  std::vector<uint8_t> out_;
-  size_t out_head_ = 0;
   std::vector<Opened> opened_;
   std::vector<Proxy*> proxies_;
   std::vector<std::pair<int, DataHandler>> handlers_;
@@ -198,9 +196,6 @@ class Client {
   uint32_t awaited_seq_ = 0;
   bool awaited_done_ = false;
   Reply awaited_;
-  bool hello_seen_ = false;
-  /// The TimeSync of the current connection has been answered.
-  bool time_synced_ = false;
 };
 
 }  // namespace troupe::client

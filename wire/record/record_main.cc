@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <string>
 
-#include "runtime/log.h"
-#include "runtime/stop_signals.h"
 #include "wire/address.h"
 #include "wire/cli/args.h"
+#include "wire/log.h"
 #include "wire/record/recorder.h"
+#include "wire/stop_signals.h"
 
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-record");

@@ -4,13 +4,16 @@
 #include <sys/time.h>
 
 #include <algorithm>
+#include <cerrno>
 
-#include "runtime/clock.h"
-#include "runtime/log.h"
 #include "wire/address.h"
+#include "wire/clock.h"
+#include "wire/log.h"
 
 namespace troupe::record {
 namespace {
+
+using wire::monotonic_us;
 
 uint64_t unix_us() {
   timeval tv{};
@@ -24,9 +27,25 @@ std::string nack_text(const wire::Message& msg) {
   return e->text() ? e->text()->str() : std::string(wire::EnumNameErrorCode(e->code()));
 }
 
+wire::ConnectionOptions connection_options(const RecordOptions& o) {
+  wire::ConnectionOptions c;
+  c.name = "troupe-record";
+  c.target = o.host + ":" + std::to_string(o.port);
+  c.backoff_min_us = uint64_t(o.reconnect_min_ms) * 1000u;
+  c.backoff_max_us = uint64_t(std::max(o.reconnect_max_ms, o.reconnect_min_ms)) * 1000u;
+  c.connect_timeout_us = uint64_t(o.timeout_ms) * 1000u;
+  // A node with nothing to send is told apart from a dead one.
+  c.keepalive_us = 2'000'000;
+  c.keepalive_timeout_us = 6'000'000;
+  c.sync_clock = false;
+  return c;
+}
+
 }  // namespace
 
-Recorder::Recorder(RecordOptions options) : options_(std::move(options)), session_("troupe-record") {}
+Recorder::Recorder(RecordOptions options)
+    : options_(std::move(options)),
+      link_(options_.host, options_.port, connection_options(options_), options_.resolver) {}
 
 double Recorder::elapsed_s() const {
   return start_us_ ? double(monotonic_us() - start_us_) * 1e-6 : 0.0;
@@ -37,35 +56,60 @@ bool Recorder::done() const {
   return options_.duration_s > 0 && elapsed_s() >= options_.duration_s;
 }
 
-bool Recorder::start(std::string& error) {
-  if (!session_.connect(options_.host, options_.port, options_.timeout_ms, error)) return false;
-  uint32_t list_seq = ++seq_;
-  if (!session_.send({}, wire::Kind::DeviceList, list_seq, error)) return false;
-  uint64_t deadline = monotonic_us() + uint64_t(options_.timeout_ms) * 1000u;
-  while (device_list_.empty()) {
-    std::span<const uint8_t> frame;
-    const wire::Message* msg = nullptr;
-    uint64_t now = monotonic_us();
-    int wait = now >= deadline ? 0 : int((deadline - now) / 1000);
-    Session::Read r = session_.read(wait, frame, msg, error);
-    if (r == Session::Read::Timeout) error = "no device list from " + options_.host + " within the timeout";
-    if (r != Session::Read::Frame) return false;
-    if (msg->header()->kind() == wire::Kind::DeviceList && msg->header()->seq() == list_seq &&
-        msg->body_as_DeviceList() != nullptr) {
-      device_list_.assign(frame.begin(), frame.end());
+template <class Until>
+bool Recorder::wait_for(Until until, int timeout_ms, const char* what, std::string& error) {
+  uint64_t deadline = monotonic_us() + uint64_t(timeout_ms) * 1000u;
+  for (;;) {
+    for (wire::Event e = link_.next_event(); e.kind != wire::EventKind::None; e = link_.next_event()) {
+      if (e.kind == wire::EventKind::Down) {
+        error = std::string(e.text);
+        return false;
+      }
+      if (until(e)) return true;
     }
+    uint64_t now = monotonic_us();
+    if (now >= deadline) {
+      error = std::string(what) + " from " + options_.host + " within the timeout";
+      return false;
+    }
+    link_.wait(int((deadline - now + 999) / 1000));
   }
+}
+
+bool Recorder::start(std::string& error) {
+  link_.start();
+  auto hello = [&](const wire::Event& e) {
+    if (e.kind != wire::EventKind::Up) return false;
+    hello_.assign(e.frame.begin(), e.frame.end());
+    return true;
+  };
+  // The connect timeout of the connection bounds this wait; the margin only
+  // covers a resolver that blocks.
+  if (!wait_for(hello, options_.timeout_ms * 2, "no Hello", error)) return false;
+  wire::Connection& conn = link_.connection();
+  uint32_t list_seq = conn.next_seq();
+  wire::MessageWriter w;
+  link_.send(w.empty(wire::make_header({}, wire::Kind::DeviceList, 0, list_seq, monotonic_us())));
+  auto list = [&](const wire::Event& e) {
+    if (e.kind != wire::EventKind::Frame) return false;
+    const wire::Header& h = *e.message->header();
+    if (h.kind() != wire::Kind::DeviceList || h.seq() != list_seq || e.message->body_as_DeviceList() == nullptr) {
+      return false;
+    }
+    device_list_.assign(e.frame.begin(), e.frame.end());
+    return true;
+  };
+  if (!wait_for(list, options_.timeout_ms, "no device list", error)) return false;
   if (!resolve(error)) return false;
 
   // The log names only the recorded devices, with the node's robot and
   // driver names, so that play serves exactly these.
-  const wire::DeviceList* list = wire::trusted_message(device_list_)->body_as_DeviceList();
-  wire::MessageWriter w;
+  const wire::DeviceList* devices = wire::trusted_message(device_list_)->body_as_DeviceList();
   auto& b = w.start();
   std::vector<flatbuffers::Offset<wire::DeviceInfo>> infos;
   for (const Device& d : devices_) {
     // resolve() found every device in the list, so the list is not empty.
-    for (const wire::DeviceInfo* info : *list->devices()) {
+    for (const wire::DeviceInfo* info : *devices->devices()) {
       if (info->addr() == nullptr || !(*info->addr() == d.addr)) continue;
       infos.push_back(wire::CreateDeviceInfo(
           b, &d.addr, b.CreateString(info->robot_name() ? info->robot_name()->str() : ""),
@@ -79,21 +123,18 @@ bool Recorder::start(std::string& error) {
 
   if (!writer_.open(options_.output, unix_us(), error)) return false;
   start_us_ = monotonic_us();
-  if (!writer_.write(0, session_.hello_frame(), error) || !writer_.write(0, recorded, error)) return false;
-  if (!send_opens(error)) return false;
-  deadline = monotonic_us() + uint64_t(options_.timeout_ms) * 1000u;
-  while (!std::all_of(devices_.begin(), devices_.end(), [](const Device& d) { return d.acked; })) {
-    std::span<const uint8_t> frame;
-    const wire::Message* msg = nullptr;
-    uint64_t now = monotonic_us();
-    Session::Read r = session_.read(now >= deadline ? 0 : int((deadline - now) / 1000), frame, msg, error);
-    if (r == Session::Read::Timeout) error = "no reply to Open from " + options_.host + " within the timeout";
-    if (r != Session::Read::Frame) return false;
-    if (!handle(frame, *msg, error)) return false;
-    if (!open_error_.empty()) {
-      error = open_error_;
-      return false;
-    }
+  if (!writer_.write(0, hello_, error) || !writer_.write(0, recorded, error)) return false;
+  send_opens();
+  std::string write_error;
+  auto opened = [&](const wire::Event& e) {
+    if (e.kind == wire::EventKind::Frame && !handle(e.frame, *e.message, write_error)) return true;
+    return !open_error_.empty() ||
+           std::all_of(devices_.begin(), devices_.end(), [](const Device& d) { return d.acked; });
+  };
+  if (!wait_for(opened, options_.timeout_ms, "no reply to Open", error)) return false;
+  if (!write_error.empty() || !open_error_.empty()) {
+    error = write_error.empty() ? open_error_ : write_error;
+    return false;
   }
   return writer_.flush(error);
 }
@@ -142,15 +183,15 @@ bool Recorder::resolve(std::string& error) {
   return true;
 }
 
-bool Recorder::send_opens(std::string& error) {
+void Recorder::send_opens() {
+  wire::MessageWriter w;
   for (Device& d : devices_) {
-    d.open_seq = ++seq_;
-    auto& b = session_.begin();
+    d.open_seq = link_.connection().next_seq();
+    auto& b = w.start();
     auto open = wire::CreateOpen(b, wire::Access::Read, wire::Delivery::Push);
-    if (!session_.send(d.addr, wire::Kind::Open, d.open_seq, error, wire::Body::Open, open.Union()))
-      return false;
+    link_.send(w.finish(wire::make_header(d.addr, wire::Kind::Open, 0, d.open_seq, monotonic_us()),
+                        wire::Body::Open, open.Union()));
   }
-  return true;
 }
 
 bool Recorder::handle(std::span<const uint8_t> frame, const wire::Message& msg, std::string& error) {
@@ -171,54 +212,40 @@ bool Recorder::handle(std::span<const uint8_t> frame, const wire::Message& msg, 
   return true;
 }
 
-bool Recorder::reconnect(int stop_fd, uint64_t deadline_us) {
-  uint32_t backoff_ms = options_.reconnect_min_ms;
-  for (;;) {
-    int wait = int(backoff_ms);
-    if (deadline_us != 0) {
-      uint64_t now = monotonic_us();
-      if (now >= deadline_us) return false;
-      wait = std::min<int>(wait, int((deadline_us - now + 999) / 1000));
-    }
-    pollfd p{stop_fd, POLLIN, 0};
-    if (poll(&p, stop_fd >= 0 ? 1 : 0, wait) > 0) return false;
-    std::string error;
-    if (session_.connect(options_.host, options_.port, options_.timeout_ms, error) && send_opens(error)) {
-      ++reconnections_;
-      log_info("reconnected to %s; recording again", options_.host.c_str());
-      return true;
-    }
-    log_debug("%s", error.c_str());
-    backoff_ms = std::min(backoff_ms * 2, options_.reconnect_max_ms);
-  }
-}
-
 bool Recorder::run(int stop_fd, std::string& error) {
   uint64_t deadline_us = options_.duration_s > 0 ? start_us_ + uint64_t(options_.duration_s * 1e6) : 0;
   while (!done()) {
-    // Drain whatever the session holds, then wait for more or for a stop.
-    std::span<const uint8_t> frame;
-    const wire::Message* msg = nullptr;
-    std::string why;
-    Session::Read r;
-    while ((r = session_.read(0, frame, msg, why)) == Session::Read::Frame) {
-      if (!handle(frame, *msg, error)) return false;
-      if (done()) break;
+    for (wire::Event e = link_.next_event(); e.kind != wire::EventKind::None && !done(); e = link_.next_event()) {
+      if (e.kind == wire::EventKind::Frame) {
+        if (!handle(e.frame, *e.message, error)) return false;
+      } else if (e.kind == wire::EventKind::Down) {
+        // The first failure says what happened; the attempts after it only
+        // say why they failed, at debug level.
+        if (!lost_) log_warn("%.*s; reconnecting", int(e.text.size()), e.text.data());
+        if (lost_) log_debug("%.*s", int(e.text.size()), e.text.data());
+        lost_ = true;
+      } else if (e.kind == wire::EventKind::Up) {
+        lost_ = false;
+        ++reconnections_;
+        send_opens();
+        log_info("reconnected to %s; recording again", options_.host.c_str());
+      }
     }
     if (!writer_.flush(error)) return false;
     if (done()) break;
-    if (r == Session::Read::Closed) {
-      log_warn("%s; reconnecting", why.c_str());
-      if (!reconnect(stop_fd, deadline_us)) break;
-      continue;
-    }
-    pollfd fds[2] = {{session_.fd(), POLLIN, 0}, {stop_fd, POLLIN, 0}};
-    int wait = 1000;
+    pollfd fds[1 + wire::kMaxAttemptsInFlight];
+    int n = link_.poll_fds(fds, int(wire::kMaxAttemptsInFlight));
+    fds[n] = {stop_fd, POLLIN, 0};
+    int wait = link_.next_timeout_ms();
+    if (wait < 0 || wait > 1000) wait = 1000;
     if (deadline_us != 0) {
       uint64_t now = monotonic_us();
       wait = now >= deadline_us ? 0 : std::min<int>(wait, int((deadline_us - now + 999) / 1000));
     }
-    if (poll(fds, stop_fd >= 0 ? 2 : 1, wait) > 0 && (fds[1].revents & POLLIN)) break;
+    if (poll(fds, nfds_t(n + (stop_fd >= 0 ? 1 : 0)), wait) < 0 && errno != EINTR) break;
+    if (stop_fd >= 0 && (fds[n].revents & POLLIN)) break;
+    link_.process(fds, n);
+    if (deadline_us != 0 && monotonic_us() >= deadline_us) break;
   }
   return writer_.close(error);
 }

@@ -1,15 +1,17 @@
 // The recorder behind `troupe record`: opens devices of a node for reading
 // and writes their Data frames, as received and with receive times, to a
-// log file (log_file.h). A lost connection is re-established with backoff
-// and the devices opened again; the recording goes on in the same file.
+// log file (log_file.h). It keeps the frames byte for byte, so it takes them
+// from the connection core (wire/connection) rather than through the client
+// library's decoded handlers. A lost connection is re-established with
+// backoff and the devices opened again; the recording goes on in the same file.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "wire/connection/socket_link.h"
 #include "wire/record/log_file.h"
-#include "wire/record/session.h"
 
 namespace troupe::record {
 
@@ -28,6 +30,8 @@ struct RecordOptions {
   /// Backoff between reconnection attempts doubles from min to max, ms.
   uint32_t reconnect_min_ms = 100;
   uint32_t reconnect_max_ms = 2000;
+  /// Looks up the host: every address it gives is tried, in order.
+  wire::Resolver resolver = wire::resolve_system;
 };
 
 class Recorder {
@@ -57,21 +61,25 @@ class Recorder {
   };
 
   bool resolve(std::string& error);
-  bool send_opens(std::string& error);
+  void send_opens();
   /// Writes a Data frame of a recorded device; notes Open replies.
   bool handle(std::span<const uint8_t> frame, const wire::Message& msg, std::string& error);
-  bool reconnect(int stop_fd, uint64_t deadline_us);
+  /// Takes the connection's events until `until` says it has what it waits
+  /// for (true), the connection fails or `timeout_ms` passes (false, `error`).
+  template <class Until>
+  bool wait_for(Until until, int timeout_ms, const char* what, std::string& error);
   bool done() const;
 
   RecordOptions options_;
-  Session session_;
+  wire::SocketLink link_;
   LogWriter writer_;
   std::vector<Device> devices_;
+  std::vector<uint8_t> hello_;        // the node's Hello frame
   std::vector<uint8_t> device_list_;  // the node's DeviceList reply
-  uint32_t seq_ = 0;
   uint64_t start_us_ = 0;
   uint64_t frames_ = 0;
   uint32_t reconnections_ = 0;
+  bool lost_ = false;  // the connection dropped and is not back yet
   std::string open_error_;
 };
 

@@ -17,7 +17,7 @@
 namespace troupe::robocup {
 
 struct ServeOptions {
-  std::string listen = "127.0.0.1";
+  std::string listen = "localhost";
   /// TCP (and UDP) port; 0: any free port (see ServeLoop::port()).
   uint16_t port = 0;
   /// Multiple of real time; 0: as fast as possible.

@@ -1,8 +1,15 @@
 """The Python client: a connection to a node or simulator, shaped like the
 C++ one (wire/client/client.h). Use it blocking (connect(), request(),
 spin_once()) or from your own poll loop (poll_fds(), process(),
-next_timeout()). A lost connection is noticed and re-established with
-backoff; devices opened before are opened again and proxies keep working.
+next_timeout()). A lost connection is noticed (a keep-alive finds a silent
+node) and re-established with backoff; devices opened before are opened
+again and proxies keep working.
+
+The connection goes through the states of the C++ connection core
+(wire/connection/connection.h; wire/README.md, "Connection lifecycle"), by
+the same names: idle, waiting, connecting (every address of the host, in
+order, RFC 8305 style), handshake, up. This is its own implementation of
+them, not a binding.
 
 Single-threaded like the C++ client: call it from one thread. Times are
 seconds (float) unless a name says otherwise (time_us, clock_offset_us).
@@ -35,8 +42,45 @@ from .message import PROTOCOL_VERSION, Message, MessageWriter, decode, now_us
 from .verify import Limits, Verifier
 
 _ERROR_NAMES = {v: k for k, v in vars(ErrorCode).items() if not k.startswith("_")}
-_IDLE, _CONNECTING, _HANDSHAKE, _CONNECTED = range(4)
 _READ_BYTES = 64 * 1024
+
+#: The connection's states (Client.state), named as the C++ core names them.
+IDLE, WAITING, CONNECTING, HANDSHAKE, UP = "idle", "waiting", "connecting", "handshake", "up"
+#: RFC 8305's Connection Attempt Delay: the next address is tried when the
+#: current one has neither failed nor connected after this long, s.
+ATTEMPT_DELAY = 0.25
+#: Attempts open at once while connecting.
+MAX_ATTEMPTS_IN_FLIGHT = 2
+
+
+def resolve(host: str, port: int) -> list[tuple[int, tuple]]:
+    """The addresses to try for host:port as (family, sockaddr), in the order
+    RFC 8305 asks: getaddrinfo's, with address families alternating. Raises
+    OSError (socket.gaierror) when there are none."""
+    found = [(family, addr) for family, _, _, _, addr in
+             socket.getaddrinfo(host.strip("[]"), port, type=socket.SOCK_STREAM)]
+    if not found:
+        return []
+    first = [f for f in found if f[0] == found[0][0]]
+    other = [f for f in found if f[0] != found[0][0]]
+    out = []
+    for i in range(max(len(first), len(other))):
+        out += first[i:i + 1] + other[i:i + 1]
+    return out
+
+
+def _address_text(family: int, addr: tuple) -> str:
+    return f"[{addr[0]}]:{addr[1]}" if family == socket.AF_INET6 else f"{addr[0]}:{addr[1]}"
+
+
+class _Attempt:
+    """One address being tried."""
+
+    def __init__(self, family: int, addr: tuple):
+        self.family, self.addr = family, addr
+        self.sock: socket.socket | None = None
+        self.why = ""  # why it failed
+        self.started = False
 
 
 def _text(raw: bytes | None) -> str:
@@ -87,15 +131,25 @@ class Client:
 
     def __init__(self, host: str, port: int = DEFAULT_PORT, *, name: str = "troupe-python",
                  limits: Limits = Limits(), reconnect: bool = True, reconnect_min: float = 0.1,
-                 reconnect_max: float = 2.0, udp_data: bool = False):
+                 reconnect_max: float = 2.0, udp_data: bool = False, keepalive: float = 2.0,
+                 keepalive_timeout: float = 6.0, connect_timeout: float = 10.0,
+                 resolver: Callable[[str, int], list[tuple[int, tuple]]] = resolve):
         """`name` shows in the node's log; `reconnect` re-establishes a lost
         connection by itself, waiting from reconnect_min doubling to
         reconnect_max seconds between attempts; `udp_data` asks the node to
-        send Data as UDP datagrams (latest wins) instead of TCP."""
+        send Data as UDP datagrams (latest wins) instead of TCP. After
+        `keepalive` s without hearing from the node a TimeSync goes out (0:
+        never), and a node that answers nothing within `keepalive_timeout` s
+        of it is dropped. An attempt (every address, and the handshake) gives
+        up after `connect_timeout` s. `resolver(host, port)` gives the
+        addresses to try (see resolve())."""
         self.host, self.port, self.name = host, port, name
         self.limits = limits
         self.reconnect, self.reconnect_min, self.reconnect_max = reconnect, reconnect_min, reconnect_max
         self.udp_data = udp_data
+        self.keepalive, self.keepalive_timeout, self.connect_timeout = keepalive, keepalive_timeout, connect_timeout
+        self.resolver = resolver
+        self.target = f"[{host}]:{port}" if ":" in host and not host.startswith("[") else f"{host}:{port}"
         #: The last problem: resolution, connection, a Nack, an Error from the node.
         self.error = ""
         #: The node's name from its Hello.
@@ -106,15 +160,22 @@ class Client:
         self.connections = 0
         self._verifier = Verifier(limits=limits)
         self._writer = MessageWriter()
-        self._state = _IDLE
+        self._state = IDLE
+        self._running = False
         self._sock: socket.socket | None = None
         self._udp: socket.socket | None = None
         self._udp_port = 0
         self._reader = FrameReader(limits.max_frame_bytes)
         self._out = bytearray()
         self._seq = 0
-        self._reconnect_at = 0.0
+        self._attempts: list[_Attempt] = []
+        self._stagger_at = 0.0    # connecting: the next address starts
+        self._deadline = 0.0      # connecting, handshake: give up
+        self._retry_at = 0.0      # waiting: the next attempt
         self._backoff = 0.0
+        self._last_rx = 0.0
+        self._ping_seq = 0        # the keep-alive TimeSync
+        self._ping_sent = 0.0     # 0: none outstanding
         self._time_sync_seq = 0
         self._opened: dict[Address, tuple[int, int]] = {}
         self._proxies: list[weakref.ref] = []
@@ -128,24 +189,31 @@ class Client:
     def connect(self, timeout: float = 5.0) -> bool:
         """Connects and waits for the node's Hello. False with `error` when that
         fails (with reconnect on, later attempts continue in spin_once())."""
-        if self._state == _IDLE and not self._start_connect():
-            return False
+        if self._state in (IDLE, WAITING):
+            self._running = True
+            self._begin_attempt()
         deadline = time.monotonic() + max(timeout, 0.0)
-        while self._state in (_CONNECTING, _HANDSHAKE):
+        while self._state in (CONNECTING, HANDSHAKE):
             left = deadline - time.monotonic()
             if left <= 0:
-                self.error = f"timed out connecting to {self.host}:{self.port}"
+                self.error = f"timed out connecting to {self.target}"
                 return False
             self.spin_once(left)
         return self.connected
 
     @property
+    def state(self) -> str:
+        """idle, waiting, connecting, handshake or up (wire/README.md)."""
+        return self._state
+
+    @property
     def connected(self) -> bool:
-        return self._state == _CONNECTED
+        return self._state == UP
 
     def shutdown(self) -> None:
         """Closes the connection for good (no reconnect)."""
-        self.reconnect = False
+        self._running = False
+        self._close_attempts()
         self._drop("closed by the client")
         if self._udp is not None:
             self._udp.close()
@@ -295,38 +363,40 @@ class Client:
         """(fd, poll events) to wait on, for a caller's own poll loop."""
         fds = []
         if self._sock is not None:
-            events = select.POLLIN
-            if self._state == _CONNECTING or self._out:
-                events |= select.POLLOUT
+            events = select.POLLIN | (select.POLLOUT if self._out else 0)
             fds.append((self._sock.fileno(), events))
-        if self._udp is not None:
-            fds.append((self._udp.fileno(), select.POLLIN))
+            if self._udp is not None:
+                fds.append((self._udp.fileno(), select.POLLIN))
+        for a in self._attempts:
+            if a.sock is not None:
+                fds.append((a.sock.fileno(), select.POLLOUT))
         return fds
 
     def next_timeout(self) -> float | None:
         """Seconds until process() must run even without events (None: no deadline)."""
-        if self._state != _IDLE or not self._reconnect_at:
-            return None
-        return max(0.0, self._reconnect_at - time.monotonic())
+        at = self._next_deadline()
+        return None if at is None else max(0.0, at - time.monotonic())
 
     def process(self, ready: list[tuple[int, int]]) -> None:
         """Handles what poll() reported as (fd, revents) pairs, then timers."""
         for fd, revents in ready:
             if self._sock is not None and fd == self._sock.fileno():
-                if self._state == _CONNECTING:
-                    err = self._sock.getsockopt(socket.SOL_SOCKET, socket.SO_ERROR)
-                    if err:
-                        self._disconnect(f"cannot connect to {self.host}:{self.port}: {os.strerror(err)}")
-                        continue
-                    self._on_connected()
                 if revents & select.POLLOUT:
                     self._flush()
                 if self._sock is not None and revents & (select.POLLIN | select.POLLHUP | select.POLLERR):
                     self._read_tcp()
             elif self._udp is not None and fd == self._udp.fileno() and revents & select.POLLIN:
                 self._read_udp()
-        if self._state == _IDLE and self._reconnect_at and time.monotonic() >= self._reconnect_at:
-            self._start_connect()
+            else:
+                for i, a in enumerate(self._attempts):
+                    if a.sock is not None and a.sock.fileno() == fd:
+                        err = a.sock.getsockopt(socket.SOL_SOCKET, socket.SO_ERROR)
+                        if err:
+                            self._attempt_failed(i, os.strerror(err))
+                        else:
+                            self._attempt_connected(i)
+                        break
+        self._on_time(time.monotonic())
 
     # ---- Internals ------------------------------------------------------------
 
@@ -334,36 +404,128 @@ class Client:
         self._seq = (self._seq + 1) & 0xFFFFFFFF or 1
         return self._seq
 
-    def _start_connect(self) -> bool:
-        self._reconnect_at = 0.0
+    def _begin_attempt(self) -> None:
+        """Connecting: resolve the host, then try its addresses."""
+        now = time.monotonic()
+        self._state = CONNECTING
+        self._retry_at = 0.0
+        self._deadline = now + self.connect_timeout if self.connect_timeout > 0 else 0.0
         try:
-            found = socket.getaddrinfo(self.host, self.port, type=socket.SOCK_STREAM)
-        except (socket.gaierror, UnicodeError) as e:
-            self.error = f"cannot resolve host '{self.host}': {e.strerror if hasattr(e, 'strerror') else e}"
-            self._schedule_reconnect()
-            return False
-        last = ""
-        for family, kind, proto, _, sockaddr in found:
-            s = socket.socket(family, kind, proto)
+            found = self.resolver(self.host, self.port)
+        except (OSError, UnicodeError) as e:
+            self._fail_attempt(f"cannot resolve host '{self.host}': {getattr(e, 'strerror', None) or e}")
+            return
+        if not found:
+            self._fail_attempt(f"no address for {self.target}")
+            return
+        self._attempts = [_Attempt(family, addr) for family, addr in found]
+        self._start_next()
+
+    def _start_next(self) -> bool:
+        """Starts the next untried address (RFC 8305: at once after a failure,
+        or when the attempt delay passed); False when none is left."""
+        for i, a in enumerate(self._attempts):
+            if a.started:
+                continue
+            a.started = True
+            self._stagger_at = time.monotonic() + ATTEMPT_DELAY
+            s = socket.socket(a.family, socket.SOCK_STREAM)
             s.setblocking(False)
             s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            rc = s.connect_ex(sockaddr)
-            if rc in (0, errno.EINPROGRESS):
-                self._sock = s
-                break
-            last = os.strerror(rc)
-            s.close()
-        if self._sock is None:
-            self.error = f"cannot connect to {self.host}:{self.port}: {last}"
-            self._schedule_reconnect()
-            return False
+            a.sock = s
+            rc = s.connect_ex(a.addr)
+            if rc == 0:
+                self._attempt_connected(i)
+            elif rc != errno.EINPROGRESS:
+                self._attempt_failed(i, os.strerror(rc))
+            return True
+        self._stagger_at = 0.0
+        return False
+
+    def _in_flight(self) -> int:
+        return sum(1 for a in self._attempts if a.sock is not None)
+
+    def _attempt_failed(self, i: int, why: str) -> None:
+        a = self._attempts[i]
+        if a.sock is not None:
+            a.sock.close()
+            a.sock = None
+        a.why = why
+        if self._state == CONNECTING and not self._start_next() and self._in_flight() == 0:
+            reasons = {x.why for x in self._attempts}
+            if len(reasons) == 1:
+                self._fail_attempt(f"cannot connect to {self.target}: {why}")
+            else:
+                each = "; ".join(f"{_address_text(x.family, x.addr)}: {x.why}" for x in self._attempts)
+                self._fail_attempt(f"cannot connect to {self.target}: {each}")
+
+    def _attempt_connected(self, i: int) -> None:
+        self._sock, self._attempts[i].sock = self._attempts[i].sock, None
+        self._close_attempts()
+        self._state = HANDSHAKE
+        self._last_rx = time.monotonic()
+        self._reader = FrameReader(self.limits.max_frame_bytes)
         if self.udp_data and self._udp is None:
-            self._udp = socket.socket(found[0][0], socket.SOCK_DGRAM)
+            # One socket for both families (IPv6 with IPv4-mapped addresses).
+            try:
+                self._udp = socket.socket(socket.AF_INET6, socket.SOCK_DGRAM)
+                self._udp.setsockopt(socket.IPPROTO_IPV6, socket.IPV6_V6ONLY, 0)
+                self._udp.bind(("::", 0))
+            except OSError:
+                self._udp = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+                self._udp.bind(("", 0))
             self._udp.setblocking(False)
-            self._udp.bind(("", 0))
             self._udp_port = self._udp.getsockname()[1]
-        self._state = _CONNECTING
-        return True
+        self._on_connected()
+
+    def _close_attempts(self) -> None:
+        for a in self._attempts:
+            if a.sock is not None:
+                a.sock.close()
+                a.sock = None
+        self._attempts = []
+        self._stagger_at = 0.0
+
+    def _fail_attempt(self, why: str) -> None:
+        self._close_attempts()
+        self._drop(why)
+        self._schedule_reconnect()
+
+    def _next_deadline(self) -> float | None:
+        """When _on_time() must run next (monotonic s), or None."""
+        if self._state == WAITING:
+            return self._retry_at
+        if self._state == CONNECTING:
+            untried = any(not a.started for a in self._attempts)
+            stagger = self._stagger_at if untried and self._in_flight() < MAX_ATTEMPTS_IN_FLIGHT else 0.0
+            times = [t for t in (self._deadline, stagger) if t]
+            return min(times) if times else None
+        if self._state == HANDSHAKE:
+            return self._deadline or None
+        if self._state == UP and self.keepalive > 0:
+            return self._ping_sent + self.keepalive_timeout if self._ping_sent else self._last_rx + self.keepalive
+        return None
+
+    def _on_time(self, now: float) -> None:
+        if self._state == WAITING and now >= self._retry_at:
+            self._begin_attempt()
+        elif self._state == CONNECTING:
+            if self._deadline and now >= self._deadline:
+                self._fail_attempt(f"no connection with {self.target} within {self.connect_timeout * 1000:.0f} ms")
+            elif self._stagger_at and now >= self._stagger_at and self._in_flight() < MAX_ATTEMPTS_IN_FLIGHT:
+                self._start_next()
+        elif self._state == HANDSHAKE and self._deadline and now >= self._deadline:
+            self._disconnect(f"no handshake with {self.target} within {self.connect_timeout * 1000:.0f} ms")
+        elif self._state == UP and self.keepalive > 0:
+            if self._ping_sent and now >= self._ping_sent + self.keepalive_timeout:
+                self._disconnect(f"node silent for {(now - self._last_rx) * 1000:.0f} ms")
+            elif not self._ping_sent and now >= self._last_rx + self.keepalive:
+                # A TimeSync is the cheapest message every node answers.
+                self._ping_seq, self._ping_sent = self._next_seq(), now
+                w = MessageWriter()
+                b = w.start()
+                self._queue(w.finish(Address(0, 0, 0), Kind.TimeSync, 0, self._ping_seq, None, Body.TimeSync,
+                                     self._time_sync_body(b)))
 
     def _time_sync_body(self, b) -> int:
         _ts.TimeSyncStart(b)
@@ -377,7 +539,9 @@ class Client:
         return _open.OpenEnd(b)
 
     def _on_connected(self) -> None:
-        self._state = _HANDSHAKE
+        """The transport is up: Hello and the first TimeSync go out before
+        anything queued while connecting."""
+        queued, self._out = self._out, bytearray()
         w = MessageWriter()
         b = w.start()
         name = b.CreateString(self.name)
@@ -387,13 +551,18 @@ class Client:
         _hello.HelloAddMaxFrameBytes(b, self.limits.max_frame_bytes)
         _hello.HelloAddUdpPort(b, self._udp_port)
         _hello.HelloAddClockUs(b, now_us())
-        self._queue(w.finish(Address(0, 0, 0), Kind.Hello, 0, 0, None, Body.Hello, _hello.HelloEnd(b)))
+        self._out += w.finish(Address(0, 0, 0), Kind.Hello, 0, 0, None, Body.Hello, _hello.HelloEnd(b))
         self._time_sync_seq = self._next_seq()
         b = w.start()
-        self._queue(w.finish(Address(0, 0, 0), Kind.TimeSync, 0, self._time_sync_seq, None, Body.TimeSync,
-                             self._time_sync_body(b)))
-        # Devices opened before a reconnect are opened again; their Acks need
-        # no waiting (a Nack shows up in error).
+        self._out += w.finish(Address(0, 0, 0), Kind.TimeSync, 0, self._time_sync_seq, None, Body.TimeSync,
+                              self._time_sync_body(b))
+        self._out += queued
+        self._flush()
+
+    def _on_up(self) -> None:
+        """The node's Hello arrived. Devices opened before a reconnect are
+        opened again; their Acks need no waiting (a Nack shows up in error)."""
+        w = MessageWriter()
         for addr, (access, delivery) in self._opened.items():
             b = w.start()
             self._queue(w.finish(addr, Kind.Open, 0, self._next_seq(), None, Body.Open,
@@ -403,7 +572,8 @@ class Client:
         if self._sock is not None:
             self._sock.close()
         self._sock = None
-        self._state = _IDLE
+        self._state = IDLE
+        self._ping_sent = 0.0
         self.error = why
         self._reader = FrameReader(self.limits.max_frame_bytes)
         self._out.clear()
@@ -415,10 +585,12 @@ class Client:
         self._schedule_reconnect()
 
     def _schedule_reconnect(self) -> None:
-        if not self.reconnect:
+        if not self.reconnect or not self._running:
+            self._running = False
             return
         self._backoff = self.reconnect_min if not self._backoff else min(self._backoff * 2, self.reconnect_max)
-        self._reconnect_at = time.monotonic() + self._backoff
+        self._retry_at = time.monotonic() + self._backoff
+        self._state = WAITING
 
     def _read_tcp(self) -> None:
         for _ in range(16):
@@ -431,6 +603,7 @@ class Client:
             except OSError as e:
                 self._disconnect(f"connection to {self.host} lost: {e.strerror}")
                 return
+            self._last_rx, self._ping_sent = time.monotonic(), 0.0
             if not data:
                 # Keep the node's own explanation if it sent one before closing.
                 keep = self.error.startswith("node closed")
@@ -480,10 +653,13 @@ class Client:
                 self._disconnect(f"node speaks protocol {hello.ProtocolVersion()}, this client {PROTOCOL_VERSION}")
                 return
             self.node_name = _text(hello.Name())
-            self._state = _CONNECTED
+            self._state = UP
             self.connections += 1
             self._backoff = 0.0
+            self._on_up()
         elif kind == Kind.TimeSync:
+            if h.seq == self._ping_seq:
+                return  # the keep-alive's reply: arriving was its job
             if self._awaited_seq and h.seq == self._awaited_seq and self._awaited is None:
                 self._awaited = Reply(Reply.ACK, message=msg)
             t = msg.body_as(_ts.TimeSync)
@@ -522,7 +698,7 @@ class Client:
             handler(msg)
 
     def _flush(self) -> None:
-        if self._sock is None or self._state == _CONNECTING:
+        if self._sock is None:
             return
         while self._out:
             try:
@@ -535,18 +711,16 @@ class Client:
             del self._out[:n]
 
     def _queue(self, frame: bytes) -> bool:
-        if self._state == _IDLE:
+        """Sends a frame; while connecting it waits and goes out after the Hello."""
+        if self._state not in (CONNECTING, HANDSHAKE, UP):
             self.error = f"not connected to {self.host}"
             return False
         self._out += frame
         self._flush()
-        return self._sock is not None
+        return self._state != IDLE and self._state != WAITING
 
     def _send(self, addr: Address, kind: int, seq: int, body_type: int = Body.NONE, body: int = 0,
               subtype: int = 0) -> bool:
-        if self._state == _IDLE:
-            self.error = f"not connected to {self.host}"
-            return False
         return self._queue(self._writer.finish(addr, kind, subtype, seq, None, body_type, body))
 
     def _wait_reply(self, seq: int, timeout: float) -> Reply:

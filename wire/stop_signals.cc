@@ -1,4 +1,4 @@
-#include "runtime/stop_signals.h"
+#include "wire/stop_signals.h"
 
 #include <signal.h>
 #include <sys/signalfd.h>

@@ -1,4 +1,4 @@
-#include "runtime/log.h"
+#include "wire/log.h"
 
 #include <cstdarg>
 #include <cstdio>

@@ -1,22 +1,25 @@
-// The replay driver behind `troupe play`: provides the devices named in a
-// log file and publishes their recorded Data again, paced by the recorded
-// receive times (as PlayClock keeps them: jumps dropped) divided by a speed
-// factor, with the original sender timestamps in the headers. It stops at the end of the file or at the
-// first bad record (everything before it plays).
+// The replay driver: provides devices named in a troupe log file (made by
+// `troupe record`, wire/record/log_file.h) and publishes their recorded
+// Data again, paced by the recorded receive times (as PlayClock keeps them:
+// jumps dropped) divided by a speed factor, with the original sender
+// timestamps in the headers. It stops at the end of the file or at the
+// first bad record (everything before it plays). `troupe play` is a node
+// with this driver serving every device of the log; a node config may use
+// it too (replay.fbs).
 //
-// Provides: every device of the log's DeviceList record, in its order.
-// Commands are ignored; requests are refused as unsupported (a log holds
-// data only).
+// Provides: devices of the log's DeviceList record; frames of devices it
+// does not provide are skipped. Commands are ignored; requests are refused
+// as unsupported (a log holds data only).
 #pragma once
 
 #include <string>
 #include <unordered_map>
 
 #include "runtime/driver.h"
-#include "wire/record/body_copy.h"
+#include "wire/body_copy.h"
 #include "wire/record/log_file.h"
 
-namespace troupe::record {
+namespace troupe::drivers::replay {
 
 class ReplayDriver : public Driver {
  public:
@@ -30,10 +33,13 @@ class ReplayDriver : public Driver {
     /// connecting after `troupe play` started still sees the first frame.
     bool wait_for_readers = false;
     /// Longer pauses between records are jumps, not kept (PlayClock), us.
-    uint64_t max_gap_us = kDefaultMaxGapUs;
+    uint64_t max_gap_us = record::kDefaultMaxGapUs;
   };
 
+  /// Options as given (troupe play).
   explicit ReplayDriver(Options options);
+  /// Options from the node config, read in setup().
+  ReplayDriver() = default;
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_timer(TimerId id) override;
   void shutdown() override;
@@ -52,14 +58,15 @@ class ReplayDriver : public Driver {
   /// Reads up to the next Data record and its play time; false at the end
   /// of the playable part.
   bool read_data();
-  void publish(const LogRecord& record);
+  void publish(const record::LogRecord& record);
 
   Options options_;
-  LogReader reader_;
-  BodyCopier copier_;
+  bool configured_ = false;  // options_ given to the constructor
+  record::LogReader reader_;
+  const wire::BodyCopier& copier_ = wire::body_copier();
   std::unordered_map<uint64_t, DeviceId> devices_;  // by wire::address_key
-  PlayClock clock_;
-  LogRecord current_;
+  record::PlayClock clock_;
+  record::LogRecord current_;
   uint64_t current_play_us_ = 0;  // current_'s play time, us after the pass's first record
   bool has_current_ = false;
   uint64_t pass_start_us_ = 0;  // loop clock when the pass began
@@ -75,4 +82,4 @@ class ReplayDriver : public Driver {
   uint32_t passes_ = 0;
 };
 
-}  // namespace troupe::record
+}  // namespace troupe::drivers::replay

@@ -14,7 +14,7 @@
 #include "runtime/node.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
-#include "wire/record/replay_driver.h"
+#include "drivers/replay/replay_driver.h"
 
 namespace {
 
@@ -34,7 +34,7 @@ const char kUsage[] =
     "\n"
     "  --speed X      play X times as fast as recorded (default 1; 0.5: half speed)\n"
     "  --port P       TCP port (default 6665; 0: any free port, printed)\n"
-    "  --listen ADDR  address to listen on (default 127.0.0.1)\n"
+    "  --listen ADDR  address to listen on (default localhost: 127.0.0.1 and ::1)\n"
     "  --loop         start over after the last frame\n"
     "  --wait         hold the start until every recorded device has a reader\n"
     "  --hold         keep serving after the last frame, until Ctrl-C\n"
@@ -122,7 +122,7 @@ void print_info(const std::string& path, const troupe::record::LogSummary& s,
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-play");
   signal(SIGPIPE, SIG_IGN);
-  troupe::record::ReplayDriver::Options replay;
+  troupe::drivers::replay::ReplayDriver::Options replay;
   troupe::Node::Options node_options;
   bool hold = false, info = false;
   for (int i = 1; i < argc; ++i) {
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
 
   node_options.name = summary.node_name.empty() ? "troupe-play" : summary.node_name + " (replay)";
   troupe::Node node(node_options);
-  auto* driver = new troupe::record::ReplayDriver(replay);
+  auto* driver = new troupe::drivers::replay::ReplayDriver(replay);
   std::vector<troupe::DeviceId> ids;
   for (const Recorded& d : devices) {
     troupe::DeviceId id =

@@ -1,12 +1,15 @@
-#include "wire/record/body_copy.h"
+#include "wire/body_copy.h"
 
-extern const unsigned char troupe_record_message_bfbs[];
-extern const unsigned troupe_record_message_bfbs_size;
+extern const unsigned char troupe_message_bfbs[];
+extern const unsigned troupe_message_bfbs_size;
 
-namespace troupe::record {
+namespace troupe::wire {
 
-BodyCopier::BodyCopier()
-    : bfbs_(troupe_record_message_bfbs, troupe_record_message_bfbs + troupe_record_message_bfbs_size) {
+std::span<const uint8_t> message_schema() {
+  return {troupe_message_bfbs, troupe_message_bfbs_size};
+}
+
+BodyCopier::BodyCopier() : bfbs_(message_schema().begin(), message_schema().end()) {
   // The embedded array is only byte-aligned; the copy is aligned for the verifier.
   flatbuffers::Verifier verifier(bfbs_.data(), bfbs_.size());
   if (!reflection::VerifySchemaBuffer(verifier)) return;
@@ -22,17 +25,21 @@ BodyCopier::BodyCopier()
   schema_ = schema;
 }
 
-bool BodyCopier::can_copy(wire::Body type) const {
+bool BodyCopier::can_copy(Body type) const {
   size_t t = size_t(type);
   return t < by_type_.size() && by_type_[t] != nullptr;
 }
 
-flatbuffers::Offset<void> BodyCopier::copy(flatbuffers::FlatBufferBuilder& fbb,
-                                           const wire::Message& msg) const {
+flatbuffers::Offset<void> BodyCopier::copy(flatbuffers::FlatBufferBuilder& fbb, const Message& msg) const {
   const auto* body = static_cast<const flatbuffers::Table*>(msg.body());
   if (schema_ == nullptr || body == nullptr || !can_copy(msg.body_type())) return 0;
   return flatbuffers::Offset<void>(
       flatbuffers::CopyTable(fbb, *schema_, *by_type_[size_t(msg.body_type())], *body).o);
 }
 
-}  // namespace troupe::record
+const BodyCopier& body_copier() {
+  static const BodyCopier copier;
+  return copier;
+}
+
+}  // namespace troupe::wire

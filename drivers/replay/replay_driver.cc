@@ -1,11 +1,12 @@
-#include "wire/record/replay_driver.h"
+#include "drivers/replay/replay_driver.h"
 
 #include <algorithm>
 
 #include "runtime/log.h"
 #include "runtime/node.h"
+#include "runtime/node_config.h"
 
-namespace troupe::record {
+namespace troupe::drivers::replay {
 namespace {
 
 // How often a replay waiting for readers looks whether they came, us.
@@ -19,9 +20,21 @@ uint64_t scaled_us(uint64_t play_us, double speed) {
 
 }  // namespace
 
-ReplayDriver::ReplayDriver(Options options) : options_(std::move(options)), clock_(options_.max_gap_us) {}
+ReplayDriver::ReplayDriver(Options options)
+    : options_(std::move(options)), configured_(true), clock_(options_.max_gap_us) {}
 
 bool ReplayDriver::setup(Node& node, const DriverSetup& setup, std::string& error) {
+  if (!configured_) {
+    OptionsView<drivers::replay::Options> opt(setup);
+    options_.path = opt->file() ? opt->file()->str() : std::string();
+    options_.speed = opt->speed();
+    options_.loop = opt->loop();
+    options_.wait_for_readers = opt->wait_for_readers();
+    if (options_.path.empty()) {
+      error = "option \"file\" (the troupe log) is missing";
+      return false;
+    }
+  }
   if (!(options_.speed > 0)) {
     error = "the replay speed must be > 0";
     return false;
@@ -130,7 +143,7 @@ void ReplayDriver::play_due() {
   }
 }
 
-void ReplayDriver::publish(const LogRecord& record) {
+void ReplayDriver::publish(const record::LogRecord& record) {
   const wire::Message& msg = *record.message;
   const wire::Header& h = *msg.header();
   auto it = devices_.find(wire::address_key(h.addr()));
@@ -150,4 +163,7 @@ void ReplayDriver::publish(const LogRecord& record) {
   ++published_;
 }
 
-}  // namespace troupe::record
+extern const DriverEntry kEntry;
+const DriverEntry kEntry{"replay", []() -> Driver* { return new ReplayDriver; }};
+
+}  // namespace troupe::drivers::replay

@@ -1,0 +1,27 @@
+# cmake -DROOT=<source dir> -P layering_check.cmake
+# wire/ is the bottom layer (the protocol, the connection core, the clients,
+# the CLI): no file under it includes runtime/, drivers/ or host-sim/, and no
+# build file under it links their libraries. Fails naming every offender.
+file(GLOB_RECURSE sources RELATIVE ${ROOT} ${ROOT}/wire/*.h ${ROOT}/wire/*.cc ${ROOT}/wire/*.cpp)
+set(offenders "")
+foreach(f ${sources})
+  file(STRINGS ${ROOT}/${f} lines REGEX "^[ \t]*#[ \t]*include[ \t]*[\"<](runtime|drivers|host-sim)/")
+  foreach(line ${lines})
+    string(STRIP "${line}" line)
+    list(APPEND offenders "${f}: ${line}")
+  endforeach()
+endforeach()
+file(GLOB_RECURSE builds RELATIVE ${ROOT} ${ROOT}/wire/CMakeLists.txt ${ROOT}/wire/*.cmake)
+foreach(f ${builds})
+  file(STRINGS ${ROOT}/${f} lines REGEX "troupe_(runtime|node_config|driver_|sim|viewer|robocup)")
+  foreach(line ${lines})
+    string(STRIP "${line}" line)
+    list(APPEND offenders "${f}: ${line}")
+  endforeach()
+endforeach()
+list(LENGTH sources count)
+if(offenders)
+  list(JOIN offenders "\n  " text)
+  message(FATAL_ERROR "wire/ must not depend on runtime/, drivers/ or host-sim/:\n  ${text}")
+endif()
+message(STATUS "wire/: ${count} sources, none includes runtime/, drivers/ or host-sim/")
