@@ -10,6 +10,7 @@ set(BOARD_DRIVERS
   mcl
   fusion
   passthrough
+  ros2
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)
