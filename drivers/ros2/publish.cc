@@ -58,6 +58,7 @@ bool Ros2Bridge::name_ranger(Bridged& b, const wire::RangerScan& scan) {
     return false;
   }
   graph_.publish();
+  ranger_static_tf(b);  // when the geometry came first
   log_info("%s: %s is a %s: %s", name_.c_str(), b.label.c_str(),
            b.shape == RangerShape::Scan ? "scanning sensor" : "transducer array", b.topic.c_str());
   return true;

@@ -17,8 +17,8 @@ namespace troupe::drivers::ros2 {
 namespace {
 
 constexpr uint64_t kTickUs = 1'000'000;      // health, diagnostics, retries
-constexpr uint64_t kRetryUs = 2'000'000;     // a refused geometry/config request
-constexpr uint64_t kMapRetryUs = 5'000'000;  // a map that could not be fetched
+constexpr uint64_t kRetryUs = 1'000'000;     // a refused geometry/config request
+constexpr uint64_t kMapRetryUs = 1'000'000;  // a map that could not be fetched
 constexpr int kMaxInFlight = 32;             // requests to devices at once
 constexpr int kMaxDomain = 232;              // DDS's port mapping ends there
 constexpr int kMaxTake = 16;                 // samples taken from a reader at once
