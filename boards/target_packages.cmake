@@ -7,3 +7,6 @@
 
 set(TROUPE_DRIVER_PACKAGES_p2os libserial-dev libserial1)
 set(TROUPE_DRIVER_PACKAGES_sicklms200 libserial-dev libserial1)
+# ros2 links Cyclone DDS (its .deb depends on the library; cross builds of it
+# are untested: Cyclone's headers also want iceoryx's).
+set(TROUPE_DRIVER_PACKAGES_ros2 cyclonedds-dev libddsc0debian)

@@ -35,6 +35,8 @@ const char kUsage[] =
     "  --node-name NAME    the ROS 2 node name (default troupe_bridge)\n"
     "  --max-linear V      cmd_vel speed limit, m/s (default 1.5)\n"
     "  --max-angular W     cmd_vel turn rate limit, rad/s (default 3.0)\n"
+    "  --time auto|sim|wall  the ROS clock of the stamps (default auto: simulated\n"
+    "                      time when HOST is a simulator; sim keeps the devices' stamps)\n"
     "  --port P            this node's own Troupe port (default 0: any free port)\n"
     "  --log-level LEVEL   error, warn, info (default) or debug\n"
     "  --print-config      print the node config (for troupe-node) and exit\n"
@@ -101,6 +103,7 @@ struct Settings {
   int domain = -1;
   std::string node_name = "troupe_bridge";
   double max_linear = 1.5, max_angular = 3.0;
+  std::string time = "Auto";  // ros2.fbs TimeSource
   uint16_t local_port = 0;
 };
 
@@ -129,8 +132,8 @@ std::string make_config(const Settings& s, const std::string& host, const std::v
   std::vector<std::string> provides = local;
   provides.push_back("opaque:" + std::to_string(free_opaque));
   char limits[160];
-  std::snprintf(limits, sizeof limits, "\"domain_id\": %d, \"max_linear\": %g, \"max_angular\": %g", s.domain,
-                s.max_linear, s.max_angular);
+  std::snprintf(limits, sizeof limits, "\"domain_id\": %d, \"max_linear\": %g, \"max_angular\": %g, \"time\": \"%s\"",
+                s.domain, s.max_linear, s.max_angular, s.time.c_str());
   return "{\n  \"name\": \"troupe-ros2\",\n  \"listen\": \"127.0.0.1\",\n  \"port\": " + std::to_string(s.local_port) +
          ",\n  \"drivers\": [\n    {\n      \"name\": \"remote\",\n      \"driver_type\": \"passthrough\",\n"
          "      \"driver\": { \"host\": " + quoted(host) + ", \"port\": " + std::to_string(s.port) +
@@ -175,6 +178,13 @@ int main(int argc, char** argv) {
     } else if (a == "--max-angular" && has_value && number(argv[i + 1], 0, 1e3, v)) {
       s.max_angular = v;
       ++i;
+    } else if (a == "--time" && has_value) {
+      const std::string t = argv[++i];
+      if (t != "auto" && t != "sim" && t != "wall") {
+        std::fprintf(stderr, "troupe-ros2: --time is auto, sim or wall, not %s\n", t.c_str());
+        return 2;
+      }
+      s.time = t == "auto" ? "Auto" : t == "sim" ? "Sim" : "Wall";
     } else if (a == "--port" && has_value && number(argv[i + 1], 0, 65535, v)) {
       s.local_port = uint16_t(v);
       ++i;

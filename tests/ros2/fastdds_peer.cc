@@ -74,6 +74,9 @@ FastDdsPeer::FastDdsPeer(int domain) {
   // Initial peers on 127.0.0.1 without a port mean the well-known discovery
   // ports of participants 0..maxInitialPeersRange there.
   udp->maxInitialPeersRange = 20;
+  // Bursts of a swarm's scans overflow the kernel's default 208 KiB (what
+  // ROS 2's DDS tuning notes say too); the kernel caps this at rmem_max.
+  udp->receiveBufferSize = 4 * 1024 * 1024;
   q.transport().user_transports.push_back(udp);
   q.transport().use_builtin_transports = false;
   rtps::Locator_t peer;
