@@ -14,4 +14,4 @@ set(BOARD_DRIVERS
   mapfile
   ros2
 )
-set(BOARD_NODE_CONFIGS nodes/desktop.json)
+set(BOARD_NODE_CONFIGS nodes/desktop.json nodes/ros2.json)

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -32,6 +33,7 @@ using OccupancyGrid = nav_msgs::msg::dds_::OccupancyGrid_;
 using Range = sensor_msgs::msg::dds_::Range_;
 using DiagnosticArray = diagnostic_msgs::msg::dds_::DiagnosticArray_;
 using ParticipantEntitiesInfo = rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_;
+using PoseWithCovarianceStamped = geometry_msgs::msg::dds_::PoseWithCovarianceStamped_;
 
 inline const std::string kBin = std::string(TROUPE_BINARY_DIR) + "/bin";
 inline const std::string kWorlds = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds";

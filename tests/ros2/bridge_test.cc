@@ -388,4 +388,73 @@ TEST_F(BridgeTest, EveryRobotOfTheSwarmHasItsTopics) {
   EXPECT_EQ(frames.count("b42/sonar_7"), 1u);
 }
 
+// boards/desktop/nodes/ros2.json as it is, but for this test's ports and the
+// map file's place.
+std::string desktop_config(uint16_t sim_port) {
+  std::string text = read_text(std::string(TROUPE_SOURCE_DIR) + "/boards/desktop/nodes/ros2.json");
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  };
+  replace("\"port\": 7000", "\"port\": " + std::to_string(sim_port));
+  replace("\"port\": 6666", "\"port\": 0");
+  replace("\"examples/", "\"" + std::string(TROUPE_SOURCE_DIR) + "/examples/");
+  return text;
+}
+
+TEST_F(BridgeTest, TheDesktopExampleBridgesItsLocalizerAndMapAndTakesInitialPose) {
+  start_sim("office.world", {"--no-ctrl"});
+  const std::string config = dir_ + "/ros2.json";
+  std::ofstream(config) << desktop_config(sim_port_);
+  // The driver's domain: ROS_DOMAIN_ID, as for any ROS 2 program.
+  setenv("ROS_DOMAIN_ID", std::to_string(domain_.id()).c_str(), 1);
+  std::string error;
+  ASSERT_TRUE(bridge_.start_logged({kBin + "/troupe-node", config}, dir_ + "/node.log", error)) << error;
+  ASSERT_TRUE(bridge_.wait_for("ros2: 4 devices on DDS domain " + std::to_string(domain_.id()), true, kWaitMs));
+
+  FastDdsPeer peer(domain_.id());
+  ASSERT_TRUE(peer.ok());
+  const std::string pose_type = peer.register_type<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>();
+  fdds::DataReader* amcl = peer.reader("rt/amcl_pose", pose_type, kLatched);
+  fdds::DataWriter* initial = peer.writer("rt/initialpose", pose_type, kReliable);
+  fdds::DataReader* map =
+      peer.reader("rt/map", peer.register_type<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(), kLatched);
+  ASSERT_TRUE(amcl && initial && map && wait_matched(initial));
+
+  OccupancyGrid grid;
+  ASSERT_TRUE(take(map, grid, kWaitMs));
+  EXPECT_EQ(grid.info().width(), 400u) << "office.png: 20 m at 5 cm";
+  EXPECT_EQ(grid.info().height(), 300u);
+  EXPECT_NEAR(grid.info().origin().position().x(), -10.0, 1e-6);
+
+  PoseWithCovarianceStamped estimate;
+  ASSERT_TRUE(take(amcl, estimate, kWaitMs)) << "mcl's estimate on amcl_pose";
+  EXPECT_EQ(estimate.header().frame_id(), "map");
+  const troupe::client::Pose2 truth = ground_truth();
+  EXPECT_NEAR(estimate.pose().pose().position().x(), truth.x, 0.5);
+  EXPECT_NEAR(estimate.pose().pose().position().y(), truth.y, 0.5);
+
+  // A pose in another frame is refused; one in the map frame reaches mcl,
+  // whose next estimates start from it (1.5 m from the truth).
+  PoseWithCovarianceStamped wrong;
+  wrong.header().frame_id("odom");
+  wrong.pose().pose().orientation().w(1);
+  initial->write(&wrong);
+  EXPECT_TRUE(bridge_.wait_for("not the map frame", true, kWaitMs));
+  PoseWithCovarianceStamped moved;
+  moved.header().frame_id("map");
+  moved.pose().pose().position().x(truth.x + 1.5);
+  moved.pose().pose().position().y(truth.y);
+  moved.pose().pose().orientation().w(1);
+  moved.pose().covariance()[0] = moved.pose().covariance()[7] = 0.01;
+  moved.pose().covariance()[35] = 0.01;
+  initial->write(&moved);
+  bool followed = false;
+  for (int waited = 0; waited < kWaitMs && !followed; waited += 100) {
+    if (take(amcl, estimate, 100)) followed = std::fabs(estimate.pose().pose().position().x() - (truth.x + 1.5)) < 0.5;
+  }
+  EXPECT_TRUE(followed) << "amcl_pose did not move to the initial pose given";
+}
+
 }  // namespace

@@ -158,6 +158,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_ros2_swarm: %s\n", why.c_str());
     node.stop();
     serving.join();
+    testing::remove_tree(dir);
     return 1;
   };
 
@@ -211,9 +212,10 @@ int main(int argc, char** argv) {
       if (live == counters.size()) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    // Its own node's port, for its status device.
+    // Its own node's port, for its status device (the log holds every
+    // repeat's: the last line is this one's).
     const std::string log = bridge.out();
-    const size_t at = log.find("serving the bridged devices on 127.0.0.1:");
+    const size_t at = log.rfind("serving the bridged devices on 127.0.0.1:");
     if (at == std::string::npos) return fail("troupe-ros2 did not say where it serves: " + log);
     client::Client status("127.0.0.1", uint16_t(std::atoi(log.c_str() + at + 41)));
     if (!status.connect(5000)) return fail("cannot reach troupe-ros2's node");
