@@ -106,31 +106,29 @@ dds_qos_t* Participant::endpoint_qos(const dds_topic_descriptor_t& desc, const Q
 }
 
 dds_entity_t Participant::create_writer(const std::string& dds_topic, const dds_topic_descriptor_t& desc,
-                                        const QosProfile& profile, std::string& error) {
-  dds_entity_t t = topic(dds_topic, desc, error);
-  if (t == 0) return 0;
-  dds_qos_t* qos = endpoint_qos(desc, profile);
-  dds_entity_t w = dds_create_writer(participant_, t, qos, nullptr);
-  dds_delete_qos(qos);
-  if (w < 0) {
-    error = "cannot create a DDS writer on " + dds_topic + ": " + dds_strretcode(w);
-    return 0;
-  }
-  return w;
+                                        const QosProfile& qos, std::string& error) {
+  return create_endpoint(true, dds_topic, desc, qos, error);
 }
 
 dds_entity_t Participant::create_reader(const std::string& dds_topic, const dds_topic_descriptor_t& desc,
-                                        const QosProfile& profile, std::string& error) {
+                                        const QosProfile& qos, std::string& error) {
+  return create_endpoint(false, dds_topic, desc, qos, error);
+}
+
+dds_entity_t Participant::create_endpoint(bool writer, const std::string& dds_topic, const dds_topic_descriptor_t& desc,
+                                          const QosProfile& profile, std::string& error) {
   dds_entity_t t = topic(dds_topic, desc, error);
   if (t == 0) return 0;
   dds_qos_t* qos = endpoint_qos(desc, profile);
-  dds_entity_t r = dds_create_reader(participant_, t, qos, listener_);
+  const dds_entity_t e = writer ? dds_create_writer(participant_, t, qos, nullptr)
+                                : dds_create_reader(participant_, t, qos, listener_);
   dds_delete_qos(qos);
-  if (r < 0) {
-    error = "cannot create a DDS reader on " + dds_topic + ": " + dds_strretcode(r);
+  if (e < 0) {
+    error = std::string("cannot create a DDS ") + (writer ? "writer" : "reader") + " on " + dds_topic + ": " +
+            dds_strretcode(e);
     return 0;
   }
-  return r;
+  return e;
 }
 
 void Participant::drain_wake() {

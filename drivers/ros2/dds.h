@@ -81,6 +81,8 @@ class Participant {
  private:
   dds_entity_t topic(const std::string& dds_topic, const dds_topic_descriptor_t& desc, std::string& error);
   dds_qos_t* endpoint_qos(const dds_topic_descriptor_t& desc, const QosProfile& qos);
+  dds_entity_t create_endpoint(bool writer, const std::string& dds_topic, const dds_topic_descriptor_t& desc,
+                               const QosProfile& qos, std::string& error);
 
   dds_entity_t participant_ = 0;
   dds_listener_t* listener_ = nullptr;

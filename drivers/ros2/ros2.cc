@@ -17,8 +17,7 @@ namespace troupe::drivers::ros2 {
 namespace {
 
 constexpr uint64_t kTickUs = 1'000'000;      // health, diagnostics, retries
-constexpr uint64_t kRetryUs = 1'000'000;     // a refused geometry/config request
-constexpr uint64_t kMapRetryUs = 1'000'000;  // a map that could not be fetched
+constexpr uint64_t kRetryUs = 1'000'000;     // a refused geometry, config or map request
 constexpr int kMaxInFlight = 32;             // requests to devices at once
 constexpr int kMaxDomain = 232;              // DDS's port mapping ends there
 constexpr int kMaxTake = 16;                 // samples taken from a reader at once
@@ -274,20 +273,8 @@ void Ros2Bridge::on_data(DeviceId source, const wire::Message& msg) {
     case Kind::Position: return publish_position(*b, msg);
     case Kind::Ranger: return publish_ranger(*b, msg);
     case Kind::Bumper: return publish_bumper(*b, msg);
-    case Kind::Power:
-      if (const wire::PowerState* p = msg.body_as_PowerState()) {
-        BatteryState out;
-        fill_battery(*p, stamp_of(*b, msg), b->frame, out);
-        write(*b, b->writer, &out);
-      }
-      return;
-    case Kind::Inertial:
-      if (const wire::ImuState* s = msg.body_as_ImuState()) {
-        Imu out;
-        fill_imu(*s, stamp_of(*b, msg), b->frame, out);
-        write(*b, b->writer, &out);
-      }
-      return;
+    case Kind::Power: return publish_sensor<BatteryState>(*b, msg, msg.body_as_PowerState(), fill_battery);
+    case Kind::Inertial: return publish_sensor<Imu>(*b, msg, msg.body_as_ImuState(), fill_imu);
     case Kind::Localize:
       if (const wire::LocalizeState* s = msg.body_as_LocalizeState()) {
         PoseWithCovarianceStamped out;
@@ -437,8 +424,8 @@ void Ros2Bridge::send_requests() {
       send_fetch(b, b.config, uint8_t(wire::RangerReqSub::GetConfig));
     } else if (b.kind == Kind::Bumper) {
       send_fetch(b, b.geometry, uint8_t(wire::BumperReqSub::Geometry));
-    } else if (b.kind == Kind::Map && !b.map_published && !b.map.busy() && now >= b.geometry.retry_at) {
-      if (!b.map.start(*node_, *this, b.id)) b.geometry.retry_at = now + kMapRetryUs;
+    } else if (b.kind == Kind::Map && !b.map_published && !b.map.busy() && now >= b.map_retry_at) {
+      if (!b.map.start(*node_, *this, b.id)) b.map_retry_at = now + kRetryUs;
     }
   }
   sending_ = false;
@@ -459,7 +446,7 @@ void Ros2Bridge::on_reply(DeviceId device, const wire::Message& reply) {
       publish_map(*b);
     } else if (!b->map.busy() && !b->map_published) {
       b->problem = why;
-      b->geometry.retry_at = node_->loop().now_us() + kMapRetryUs;
+      b->map_retry_at = node_->loop().now_us() + kRetryUs;
     }
     return;
   }

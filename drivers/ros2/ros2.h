@@ -88,6 +88,7 @@ class Ros2Bridge : public Driver {
     float scan_time = 0;      // s between scans, from the config
     mcl::MapFetch map;
     bool map_published = false;
+    uint64_t map_retry_at = 0;  // loop time, us
     // Health.
     uint64_t samples = 0;
     uint64_t last_data_us = 0;  // loop time of the last sample, 0: none yet
@@ -105,6 +106,15 @@ class Ros2Bridge : public Driver {
   Time ros_now() const;
   void write(Bridged& b, dds_entity_t w, const void* sample);
 
+  /// A message filled from one body by `fill` (convert.h), if the body is there.
+  template <typename Out, typename In>
+  void publish_sensor(Bridged& b, const wire::Message& msg, const In* in,
+                      void (*fill)(const In&, Time, const std::string&, Out&)) {
+    if (in == nullptr) return;
+    Out out;
+    fill(*in, stamp_of(b, msg), b.frame, out);
+    write(b, b.writer, &out);
+  }
   void publish_position(Bridged& b, const wire::Message& msg);
   void publish_ranger(Bridged& b, const wire::Message& msg);
   void publish_bumper(Bridged& b, const wire::Message& msg);
