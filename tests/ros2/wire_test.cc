@@ -7,6 +7,7 @@
 
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "tests/ros2/bridge_fixture.h"
 
@@ -69,19 +70,26 @@ TEST_F(BridgeTest, TsharkFindsRos2TopicAndTypeNamesOnTheWire) {
   ASSERT_EQ(r.status, 0) << r.err;
   std::set<std::pair<std::string, std::string>> names;
   std::string user_data;
+  // One line a packet; a packet with several discovery samples lists their
+  // values in order, separated by commas.
+  auto split = [](const std::string& field) {
+    std::vector<std::string> parts;
+    std::istringstream in(field);
+    for (std::string p; std::getline(in, p, ',');) parts.push_back(p);
+    return parts;
+  };
   std::istringstream lines(r.out);
   for (std::string line; std::getline(lines, line);) {
     std::istringstream fields(line);
-    std::string topic, type, data;
-    std::getline(fields, topic, '\t');
-    std::getline(fields, type, '\t');
+    std::string topics, types, data;
+    std::getline(fields, topics, '\t');
+    std::getline(fields, types, '\t');
     std::getline(fields, data, '\t');
-    if (!topic.empty()) names.insert({topic, type});
+    const auto topic = split(topics), type = split(types);
+    for (size_t i = 0; i < topic.size() && i < type.size(); ++i) names.insert({topic[i], type[i]});
     user_data += data;
   }
-  for (const auto& w : want) {
-    EXPECT_EQ(names.count(w), 1u) << w.first << " " << w.second << " not in the capture; tshark: " << r.err;
-  }
+  for (const auto& w : want) EXPECT_EQ(names.count(w), 1u) << w.first << " " << w.second << " not in the capture";
   // The scan writer's user data, as the dissector shows the bytes.
   std::string digits;
   for (char c : user_data) {
