@@ -53,8 +53,15 @@ bool Ros2Bridge::setup(Node& node, const DriverSetup& setup, std::string& error)
 
   int domain = opt.domain_id();
   if (domain < 0) {
-    const char* env = std::getenv("ROS_DOMAIN_ID");
-    domain = env != nullptr && *env != '\0' ? std::atoi(env) : 0;
+    domain = 0;
+    if (const char* env = std::getenv("ROS_DOMAIN_ID"); env != nullptr && *env != '\0') {
+      char* end = nullptr;
+      domain = int(std::strtol(env, &end, 10));
+      if (*end != '\0') {
+        error = std::string("ROS_DOMAIN_ID '") + env + "' is not a number";
+        return false;
+      }
+    }
   }
   if (domain < 0 || domain > kMaxDomain) {
     error = "DDS domain " + std::to_string(domain) + " is outside 0.." + std::to_string(kMaxDomain);
@@ -90,14 +97,18 @@ bool Ros2Bridge::setup(Node& node, const DriverSetup& setup, std::string& error)
   const TimeSource ts = opt.time();
   stamps_ = std::make_unique<StampMap>(ts == TimeSource::Sim || (ts == TimeSource::Auto && has_sim));
 
+  // Every name checked before the network is touched.
+  for (size_t i = 0; i < setup.required.size(); ++i) {
+    if (!add_device(setup.required[i], i, opt, error)) return false;
+  }
   if (!dds_.open(domain_, error) || !graph_.open(dds_, node_name, node_ns, error)) return false;
   tf_ = writer("/tf", tf2_msgs_msg_dds__TFMessage__desc, kTfQos, error);
   tf_static_ = writer("/tf_static", tf2_msgs_msg_dds__TFMessage__desc, kLatchedQos, error);
   diagnostics_ = writer("/diagnostics", diagnostic_msgs_msg_dds__DiagnosticArray__desc, kDefaultQos, error);
   if (tf_ == 0 || tf_static_ == 0 || diagnostics_ == 0) return false;
-  for (size_t i = 0; i < setup.required.size(); ++i) {
-    if (!add_device(setup.required[i], i, opt, error)) return false;
-    node.subscribe(setup.required[i], this);
+  for (Bridged& b : devices_) {
+    if (!open_endpoints(b, error)) return false;
+    node.subscribe(b.id, this);
   }
   graph_.publish();
 
@@ -208,7 +219,6 @@ bool Ros2Bridge::add_device(DeviceId id, size_t use_index, const Options& opt, s
       return false;
     }
   }
-  if (!open_endpoints(b, error)) return false;
   index_[id] = devices_.size();
   devices_.push_back(std::move(b));
   return true;

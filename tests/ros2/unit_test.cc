@@ -1,5 +1,6 @@
 // The bridge's pieces on their own: ROS 2 type hashes against the ones ROS 2
-// Jazzy publishes, the conversions, the command checks, stamps and names.
+// Jazzy publishes, the conversions, the command checks, stamps and names,
+// and the configs it refuses.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,9 +8,12 @@
 #include <map>
 
 #include "drivers/ros2/convert.h"
+#include "drivers/ros2/ros2.h"
 #include "drivers/ros2/names.h"
 #include "drivers/ros2/ros2_type_hashes.h"
 #include "drivers/ros2/stamps.h"
+#include "runtime/node.h"
+#include "runtime/node_config.h"
 
 namespace {
 
@@ -283,6 +287,61 @@ TEST(Ros2Names, TokensTopicsFrames) {
   EXPECT_EQ(in_ns("", "map"), "map");
   EXPECT_EQ(topic_in_ns("r0", "odom"), "/r0/odom");
   EXPECT_EQ(topic_in_ns("", "map"), "/map");
+}
+
+}  // namespace
+
+namespace {
+
+using namespace troupe;
+
+// Devices of any interface, publishing nothing: what the bridge is set up on.
+class Devices : public Driver {
+ public:
+  bool setup(Node&, const DriverSetup&, std::string&) override { return true; }
+};
+
+// The bridge set up on devices at `addrs`, with options from `json` (the
+// driver's table); false and `error` when it refuses.
+bool bridge_on(const std::vector<wire::Address>& addrs, const std::string& json, std::string& error) {
+  Node node(Node::Options{});
+  auto devices = std::make_unique<Devices>();
+  std::vector<DeviceId> ids;
+  for (const wire::Address& a : addrs) ids.push_back(node.add_device(a, devices.get(), "devices"));
+  const DeviceId status = node.add_device(wire::Address(0, uint16_t(wire::Interface::Opaque), 9), nullptr, "ros2");
+  DriverSetup d;
+  d.provides = ids;
+  if (!node.add_driver(std::move(devices), d, error)) return false;
+  std::vector<uint8_t> config;
+  const std::string text = R"({ "drivers": [ { "driver_type": "ros2", "driver": )" + json +
+                           R"(, "uses": ["position2d:0"], "provides": ["opaque:9"] } ] })";
+  if (!parse_config_json(text, "test.json", config, error)) return false;
+  DriverSetup b;
+  b.instance = config::GetNodeConfig(config.data())->drivers()->Get(0);
+  b.name = "ros2";
+  const DeviceId status_list[] = {status};
+  b.provides = status_list;
+  b.required = ids;
+  return node.add_driver(std::make_unique<drivers::ros2::Ros2Bridge>(), b, error);
+}
+
+const wire::Address kBase(0, uint16_t(wire::Interface::Position2d), 0);
+
+TEST(Ros2Setup, RefusesWhatItCannotBridgeBeforeTouchingTheNetwork) {
+  std::string error;
+  EXPECT_FALSE(bridge_on({kBase, wire::Address(0, uint16_t(wire::Interface::Fiducial), 0)}, "{}", error));
+  EXPECT_NE(error.find("no ROS 2 message for fiducial"), std::string::npos) << error;
+  EXPECT_FALSE(bridge_on({kBase}, R"({ "namespaces": ["robot 1"] })", error));
+  EXPECT_NE(error.find("'robot 1' is not a valid ROS name"), std::string::npos) << error;
+  EXPECT_FALSE(bridge_on({kBase}, R"({ "domain_id": 300 })", error));
+  EXPECT_NE(error.find("outside 0..232"), std::string::npos) << error;
+  EXPECT_FALSE(bridge_on({kBase}, R"({ "base_frame": "base link" })", error));
+  EXPECT_NE(error.find("not a valid ROS name"), std::string::npos) << error;
+  EXPECT_FALSE(bridge_on({kBase, wire::Address(0, uint16_t(wire::Interface::Position2d), 1)},
+                         R"({ "topics": ["odom", "odom"] })", error));
+  EXPECT_NE(error.find("would both publish /odom"), std::string::npos) << error;
+  EXPECT_FALSE(bridge_on({kBase}, R"({ "max_linear": -1 })", error));
+  EXPECT_NE(error.find("max_linear"), std::string::npos) << error;
 }
 
 }  // namespace
