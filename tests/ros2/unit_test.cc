@@ -327,6 +327,38 @@ bool bridge_on(const std::vector<wire::Address>& addrs, const std::string& json,
 
 const wire::Address kBase(0, uint16_t(wire::Interface::Position2d), 0);
 
+// The bridge's commands go through Node::command(): the target driver gets
+// the newest one at the end of the loop iteration, as a client's.
+class Base : public Driver {
+ public:
+  bool setup(Node&, const DriverSetup&, std::string&) override { return true; }
+  void on_command(DeviceId, const wire::Message& m) override {
+    commands.push_back(m.body_as_Position2dVel()->vel()->x());
+  }
+  std::vector<float> commands;
+};
+
+TEST(Ros2Setup, CommandsReachAnotherDriversDeviceNewestFirst) {
+  Node node(Node::Options{});
+  auto base = std::make_unique<Base>();
+  Base* seen = base.get();
+  const DeviceId id = node.add_device(kBase, base.get(), "base");
+  std::string error;
+  DriverSetup setup;
+  const DeviceId ids[] = {id};
+  setup.provides = ids;
+  ASSERT_TRUE(node.add_driver(std::move(base), setup, error)) << error;
+  for (float v : {0.1f, 0.2f}) {
+    auto& b = node.begin();
+    const wire::Pose2d vel(v, 0, 0);
+    auto body = wire::CreatePosition2dVel(b, &vel);
+    node.command(id, uint8_t(wire::Position2dCmdSub::Vel), wire::Body::Position2dVel, body.Union());
+  }
+  EXPECT_TRUE(seen->commands.empty()) << "delivered at the end of the loop iteration";
+  node.poll(0);
+  EXPECT_EQ(seen->commands, std::vector<float>{0.2f}) << "the newest replaced the older";
+}
+
 TEST(Ros2Setup, RefusesWhatItCannotBridgeBeforeTouchingTheNetwork) {
   std::string error;
   EXPECT_FALSE(bridge_on({kBase, wire::Address(0, uint16_t(wire::Interface::Fiducial), 0)}, "{}", error));
