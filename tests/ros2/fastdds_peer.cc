@@ -13,6 +13,14 @@
 #include <cstring>
 #include <thread>
 
+// Debian 12's libfastrtps 2.9 deletes its statistics readers and writers
+// through a pointer to a base of another size, which AddressSanitizer
+// reports (new-delete-type-mismatch) when a participant goes: a defect of
+// the library, not of the code under test. Everything else stays checked.
+#if defined(__SANITIZE_ADDRESS__)
+extern "C" const char* __asan_default_options() { return "new_delete_type_mismatch=0"; }
+#endif
+
 namespace troupe::testing::ros2 {
 
 namespace dds = eprosima::fastdds::dds;
