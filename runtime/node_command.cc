@@ -7,7 +7,8 @@ namespace troupe {
 
 void Node::command(DeviceId device, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body) {
   Device& dev = devices_[device];
-  auto frame = writer_.finish(wire::make_header(dev.addr, wire::Kind::Command, subtype, 0, now_us()), type, body);
+  auto frame =
+      writer_.finish(wire::make_header(dev.addr, wire::Kind::Command, subtype, 0, now_us()), type, body);
   // Newest wins: overwrite whatever command is still waiting.
   dev.command.assign(frame.begin(), frame.end());
   if (!dev.command_pending) {

@@ -12,7 +12,9 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // The generated structs hold char* where ROS has strings; they only read them.
-char* text(const std::string& s) { return const_cast<char*>(s.c_str()); }
+char* text(const std::string& s) {
+  return const_cast<char*>(s.c_str());
+}
 
 template <typename Seq, typename T>
 void point_at(Seq& seq, std::vector<T>& storage) {
@@ -115,7 +117,8 @@ float range_at(const wire::RangerScan& scan, size_t i) {
 }
 
 void fill_laser_scan(const wire::RangerScan& scan, Time stamp, const std::string& frame, float range_min,
-                     float scan_time, std::vector<float>& ranges, std::vector<float>& intensities, LaserScan& out) {
+                     float scan_time, std::vector<float>& ranges, std::vector<float>& intensities,
+                     LaserScan& out) {
   out = LaserScan{};
   header(out.header, stamp, frame);
   const size_t n = scan.ranges() ? scan.ranges()->size() : 0;
@@ -169,8 +172,9 @@ void fill_battery(const wire::PowerState& power, Time stamp, const std::string& 
   out.design_capacity = kNaN;
   out.percentage = power.percent() ? *power.percent() / 100.0f : kNaN;
   if (const auto charging = power.charging()) {
-    out.power_supply_status = *charging ? sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_CHARGING
-                                        : sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_DISCHARGING;
+    out.power_supply_status =
+        *charging ? sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_CHARGING
+                  : sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_DISCHARGING;
   } else {
     out.power_supply_status = sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_UNKNOWN;
   }
@@ -227,9 +231,15 @@ void fill_occupancy_grid(const desktop::OccupancyGrid& grid, Time stamp, const s
   cells.resize(grid.cells().size());
   for (size_t i = 0; i < cells.size(); ++i) {
     switch (desktop::CellState(grid.cells()[i])) {
-      case desktop::CellState::Free: cells[i] = 0; break;
-      case desktop::CellState::Occupied: cells[i] = 100; break;
-      default: cells[i] = -1; break;
+      case desktop::CellState::Free:
+        cells[i] = 0;
+        break;
+      case desktop::CellState::Occupied:
+        cells[i] = 100;
+        break;
+      default:
+        cells[i] = -1;
+        break;
     }
   }
   point_at(out.data, cells);

@@ -66,7 +66,8 @@ float range_at(const wire::RangerScan& scan, size_t i);
 /// from elsewhere (the device's config, the stamps); `ranges` and
 /// `intensities` are the message's storage.
 void fill_laser_scan(const wire::RangerScan& scan, Time stamp, const std::string& frame, float range_min,
-                     float scan_time, std::vector<float>& ranges, std::vector<float>& intensities, LaserScan& out);
+                     float scan_time, std::vector<float>& ranges, std::vector<float>& intensities,
+                     LaserScan& out);
 /// Transducer i of an array (a sonar ring), as ROS drivers publish one
 /// sonar: field of view and minimum range (rad, m) from the device's config.
 void fill_sonar_range(const wire::RangerScan& scan, size_t i, Time stamp, const std::string& frame,

@@ -34,7 +34,9 @@ std::string dds_topic_name(std::string_view ros_topic) {
   return out;
 }
 
-Participant::~Participant() { close(); }
+Participant::~Participant() {
+  close();
+}
 
 bool Participant::open(uint32_t domain, std::string& error) {
   close();
@@ -95,7 +97,8 @@ dds_qos_t* Participant::endpoint_qos(const dds_topic_descriptor_t& desc, const Q
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, profile.reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT,
                        DDS_MSECS(100));
-  dds_qset_durability(qos, profile.transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
+  dds_qset_durability(qos,
+                      profile.transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, profile.depth);
   // ROS 2 Iron and later compare this with the type they expect.
   if (const RosTypeInfo* info = find_ros_type(desc.m_typename)) {
@@ -115,8 +118,9 @@ dds_entity_t Participant::create_reader(const std::string& dds_topic, const dds_
   return create_endpoint(false, dds_topic, desc, qos, error);
 }
 
-dds_entity_t Participant::create_endpoint(bool writer, const std::string& dds_topic, const dds_topic_descriptor_t& desc,
-                                          const QosProfile& profile, std::string& error) {
+dds_entity_t Participant::create_endpoint(bool writer, const std::string& dds_topic,
+                                          const dds_topic_descriptor_t& desc, const QosProfile& profile,
+                                          std::string& error) {
   dds_entity_t t = topic(dds_topic, desc, error);
   if (t == 0) return 0;
   dds_qos_t* qos = endpoint_qos(desc, profile);

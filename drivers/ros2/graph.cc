@@ -22,13 +22,17 @@ bool Graph::open(Participant& participant, std::string name, std::string ns, std
   participant_ = &participant;
   name_ = std::move(name);
   ns_ = std::move(ns);
-  writer_ = participant.create_writer("ros_discovery_info", rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc,
-                                      kLatchedQos, error);
+  writer_ = participant.create_writer(
+      "ros_discovery_info", rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc, kLatchedQos, error);
   return writer_ != 0;
 }
 
-void Graph::add_writer(dds_entity_t writer) { writers_.push_back(Participant::gid(writer)); }
-void Graph::add_reader(dds_entity_t reader) { readers_.push_back(Participant::gid(reader)); }
+void Graph::add_writer(dds_entity_t writer) {
+  writers_.push_back(Participant::gid(writer));
+}
+void Graph::add_reader(dds_entity_t reader) {
+  readers_.push_back(Participant::gid(reader));
+}
 
 void Graph::publish() {
   if (writer_ == 0) return;

@@ -16,10 +16,14 @@ Seq sequence_of(std::vector<T>& v) {
   return Seq{uint32_t(v.size()), uint32_t(v.size()), v.data(), false};
 }
 
-char* text(const std::string& s) { return const_cast<char*>(s.c_str()); }
+char* text(const std::string& s) {
+  return const_cast<char*>(s.c_str());
+}
 
 // A pose in the plane as a transform in space.
-Transform planar_transform(const wire::Pose2d& p) { return transform_of(wire::Pose3d(p.x(), p.y(), 0, 0, 0, p.a())); }
+Transform planar_transform(const wire::Pose2d& p) {
+  return transform_of(wire::Pose3d(p.x(), p.y(), 0, 0, 0, p.a()));
+}
 
 }  // namespace
 
@@ -45,7 +49,8 @@ bool Ros2Bridge::name_ranger(Bridged& b, const wire::RangerScan& scan) {
   const bool ring = b.shape == RangerShape::Array;
   const uint16_t index = b.addr.index();
   if (b.topic.empty()) b.topic = topic_in_ns(b.ns, suffixed(ring ? "sonar" : "scan", index));
-  b.frame = in_ns(b.ns, b.frame_given.empty() ? suffixed(ring ? "sonar" : "base_scan", index) : b.frame_given);
+  b.frame =
+      in_ns(b.ns, b.frame_given.empty() ? suffixed(ring ? "sonar" : "base_scan", index) : b.frame_given);
   std::string error;
   b.writer = writer(b.topic, ring ? sensor_msgs_msg_dds__Range__desc : sensor_msgs_msg_dds__LaserScan__desc,
                     kSensorDataQos, error);
@@ -93,7 +98,8 @@ void Ros2Bridge::publish_bumper(Bridged& b, const wire::Message& msg) {
   if (s == nullptr) return;
   const size_t n = std::min<size_t>(s->count(), 32);
   if (b.element_frames.size() < n) {
-    for (size_t i = b.element_frames.size(); i < n; ++i) b.element_frames.push_back(b.frame + "_" + std::to_string(i));
+    for (size_t i = b.element_frames.size(); i < n; ++i)
+      b.element_frames.push_back(b.frame + "_" + std::to_string(i));
   }
   const Time stamp = stamp_of(b, msg);
   for (size_t i = 0; i < n; ++i) {
@@ -168,7 +174,8 @@ void Ros2Bridge::publish_static_tf() {
   TFMessage msg;
   msg.transforms = sequence_of<decltype(msg.transforms)>(all);
   const dds_return_t rc = dds_write(tf_static_, &msg);
-  if (rc != DDS_RETCODE_OK) log_warn("%s: /tf_static: DDS write failed: %s", name_.c_str(), dds_strretcode(rc));
+  if (rc != DDS_RETCODE_OK)
+    log_warn("%s: /tf_static: DDS write failed: %s", name_.c_str(), dds_strretcode(rc));
 }
 
 // ---- /diagnostics and the status device -------------------------------------------
@@ -209,8 +216,12 @@ void Ros2Bridge::publish_diagnostics() {
       t.message = "ok";
     }
     std::snprintf(line, sizeof line, "%.3f", age_s);
-    t.kv = {"topic", b.topic, "samples", std::to_string(b.samples), "age_s", line, "clamped",
-            std::to_string(b.clamped), "refused", std::to_string(b.refused), "problem", b.problem};
+    t.kv = {"topic",   b.topic,
+            "samples", std::to_string(b.samples),
+            "age_s",   line,
+            "clamped", std::to_string(b.clamped),
+            "refused", std::to_string(b.refused),
+            "problem", b.problem};
     if (!b.command_topic.empty()) t.kv.insert(t.kv.end(), {"command_topic", b.command_topic});
     for (size_t k = 0; k + 1 < t.kv.size(); k += 2) t.values.push_back({text(t.kv[k]), text(t.kv[k + 1])});
     s.name = text(t.name);
@@ -248,7 +259,8 @@ void Ros2Bridge::publish_status() {
   if (status_ == kNoDevice) return;
   const std::string text = status_text();
   auto& fb = node_->begin();
-  auto body = wire::CreateOpaqueBytes(fb, fb.CreateVector(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  auto body = wire::CreateOpaqueBytes(
+      fb, fb.CreateVector(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
   node_->publish(status_, uint8_t(wire::OpaqueSub::Bytes), wire::Body::OpaqueBytes, body.Union());
 }
 

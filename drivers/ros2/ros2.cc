@@ -16,11 +16,11 @@ namespace troupe::drivers::ros2 {
 
 namespace {
 
-constexpr uint64_t kTickUs = 1'000'000;      // health, diagnostics, retries
-constexpr uint64_t kRetryUs = 1'000'000;     // a refused geometry, config or map request
-constexpr int kMaxInFlight = 32;             // requests to devices at once
-constexpr int kMaxDomain = 232;              // DDS's port mapping ends there
-constexpr int kMaxTake = 16;                 // samples taken from a reader at once
+constexpr uint64_t kTickUs = 1'000'000;   // health, diagnostics, retries
+constexpr uint64_t kRetryUs = 1'000'000;  // a refused geometry, config or map request
+constexpr int kMaxInFlight = 32;          // requests to devices at once
+constexpr int kMaxDomain = 232;           // DDS's port mapping ends there
+constexpr int kMaxTake = 16;              // samples taken from a reader at once
 
 using StringList = flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>;
 
@@ -74,7 +74,8 @@ bool Ros2Bridge::setup(Node& node, const DriverSetup& setup, std::string& error)
   publish_tf_ = opt.publish_tf();
   const std::string node_name = option(opt.node_name(), "troupe_bridge");
   const std::string node_ns = option(opt.node_namespace(), "/");
-  if (!valid_ros_token(node_name) || node_ns[0] != '/' || (node_ns != "/" && !valid_ros_path(node_ns.substr(1)))) {
+  if (!valid_ros_token(node_name) || node_ns[0] != '/' ||
+      (node_ns != "/" && !valid_ros_path(node_ns.substr(1)))) {
     error = "node_name '" + node_name + "' or node_namespace '" + node_ns + "' is not a valid ROS name";
     return false;
   }
@@ -93,7 +94,8 @@ bool Ros2Bridge::setup(Node& node, const DriverSetup& setup, std::string& error)
   stale_after_us_ = uint64_t(std::max(0.1f, opt.stale_after()) * 1e6f);
 
   bool has_sim = false;
-  for (DeviceId id : setup.required) has_sim |= node.address(id).iface() == uint16_t(wire::Interface::Simulation);
+  for (DeviceId id : setup.required)
+    has_sim |= node.address(id).iface() == uint16_t(wire::Interface::Simulation);
   const TimeSource ts = opt.time();
   stamps_ = std::make_unique<StampMap>(ts == TimeSource::Sim || (ts == TimeSource::Auto && has_sim));
 
@@ -134,14 +136,30 @@ bool Ros2Bridge::add_device(DeviceId id, size_t use_index, const Options& opt, s
   b.addr = node_->address(id);
   const uint16_t index = b.addr.index();
   switch (wire::Interface(b.addr.iface())) {
-    case wire::Interface::Position2d: b.kind = Kind::Position; break;
-    case wire::Interface::Ranger: b.kind = Kind::Ranger; break;
-    case wire::Interface::Power: b.kind = Kind::Power; break;
-    case wire::Interface::Imu: b.kind = Kind::Inertial; break;
-    case wire::Interface::Bumper: b.kind = Kind::Bumper; break;
-    case wire::Interface::Localize: b.kind = Kind::Localize; break;
-    case wire::Interface::Map: b.kind = Kind::Map; break;
-    case wire::Interface::Simulation: b.kind = Kind::Simulation; break;
+    case wire::Interface::Position2d:
+      b.kind = Kind::Position;
+      break;
+    case wire::Interface::Ranger:
+      b.kind = Kind::Ranger;
+      break;
+    case wire::Interface::Power:
+      b.kind = Kind::Power;
+      break;
+    case wire::Interface::Imu:
+      b.kind = Kind::Inertial;
+      break;
+    case wire::Interface::Bumper:
+      b.kind = Kind::Bumper;
+      break;
+    case wire::Interface::Localize:
+      b.kind = Kind::Localize;
+      break;
+    case wire::Interface::Map:
+      b.kind = Kind::Map;
+      break;
+    case wire::Interface::Simulation:
+      b.kind = Kind::Simulation;
+      break;
     default:
       error = "ros2 has no ROS 2 message for " + std::string(wire::interface_name(b.addr.iface())) +
               " devices (uses[" + std::to_string(use_index) + "])";
@@ -158,7 +176,9 @@ bool Ros2Bridge::add_device(DeviceId id, size_t use_index, const Options& opt, s
   b.label = wire::format_address(b.addr, ns);
   const std::string topic = entry(opt.topics(), use_index);
   const std::string frame = entry(opt.frames(), use_index);
-  auto data_topic = [&](const char* name) { b.topic = topic_in_ns(ns, topic.empty() ? suffixed(name, index) : topic); };
+  auto data_topic = [&](const char* name) {
+    b.topic = topic_in_ns(ns, topic.empty() ? suffixed(name, index) : topic);
+  };
   auto sensor_frame = [&](const std::string& name) { b.frame = in_ns(ns, frame.empty() ? name : frame); };
   switch (b.kind) {
     case Kind::Position: {
@@ -175,7 +195,6 @@ bool Ros2Bridge::add_device(DeviceId id, size_t use_index, const Options& opt, s
       // Whether it is a scan (topic scan) or a ring (sonar) shows in its
       // first sample: the topic is named then.
       b.frame_given = frame;
-      b.topic_given = topic;
       if (!topic.empty()) b.topic = topic_in_ns(ns, topic);
       b.geometry.wanted = b.config.wanted = true;
       break;
@@ -234,18 +253,28 @@ bool Ros2Bridge::open_endpoints(Bridged& b, std::string& error) {
       break;
     case Kind::Ranger:
       return true;  // at the first sample
-    case Kind::Power: b.writer = writer(t, sensor_msgs_msg_dds__BatteryState__desc, kDefaultQos, error); break;
-    case Kind::Inertial: b.writer = writer(t, sensor_msgs_msg_dds__Imu__desc, kSensorDataQos, error); break;
-    case Kind::Bumper: b.writer = writer(t, sensor_msgs_msg_dds__Range__desc, kSensorDataQos, error); break;
+    case Kind::Power:
+      b.writer = writer(t, sensor_msgs_msg_dds__BatteryState__desc, kDefaultQos, error);
+      break;
+    case Kind::Inertial:
+      b.writer = writer(t, sensor_msgs_msg_dds__Imu__desc, kSensorDataQos, error);
+      break;
+    case Kind::Bumper:
+      b.writer = writer(t, sensor_msgs_msg_dds__Range__desc, kSensorDataQos, error);
+      break;
     case Kind::Localize:
       // As amcl publishes amcl_pose and takes initialpose.
       b.writer = writer(t, geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, kLatchedQos, error);
-      b.reader = dds_.create_reader(dds_topic_name(b.command_topic),
-                                    geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, kDefaultQos, error);
+      b.reader =
+          dds_.create_reader(dds_topic_name(b.command_topic),
+                             geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, kDefaultQos, error);
       break;
-    case Kind::Map: b.writer = writer(t, nav_msgs_msg_dds__OccupancyGrid__desc, kLatchedQos, error); break;
+    case Kind::Map:
+      b.writer = writer(t, nav_msgs_msg_dds__OccupancyGrid__desc, kLatchedQos, error);
+      break;
     case Kind::Simulation:
-      if (stamps_->sim() && clock_ == 0) clock_ = writer("/clock", rosgraph_msgs_msg_dds__Clock__desc, kClockQos, error);
+      if (stamps_->sim() && clock_ == 0)
+        clock_ = writer("/clock", rosgraph_msgs_msg_dds__Clock__desc, kClockQos, error);
       return clock_ != 0 || !stamps_->sim();
   }
   if (b.writer == 0) return false;
@@ -280,17 +309,21 @@ void Ros2Bridge::on_data(DeviceId source, const wire::Message& msg) {
     log_info("%s: %s sends data again", name_.c_str(), b->label.c_str());
   }
   switch (b->kind) {
-    case Kind::Position: return publish_position(*b, msg);
-    case Kind::Ranger: return publish_ranger(*b, msg);
-    case Kind::Bumper: return publish_bumper(*b, msg);
-    case Kind::Power: return publish_sensor<BatteryState>(*b, msg, msg.body_as_PowerState(), fill_battery);
-    case Kind::Inertial: return publish_sensor<Imu>(*b, msg, msg.body_as_ImuState(), fill_imu);
+    case Kind::Position:
+      return publish_position(*b, msg);
+    case Kind::Ranger:
+      return publish_ranger(*b, msg);
+    case Kind::Bumper:
+      return publish_bumper(*b, msg);
+    case Kind::Power:
+      return publish_sensor<BatteryState>(*b, msg, msg.body_as_PowerState(), fill_battery);
+    case Kind::Inertial:
+      return publish_sensor<Imu>(*b, msg, msg.body_as_ImuState(), fill_imu);
     case Kind::Localize:
       if (const wire::LocalizeState* s = msg.body_as_LocalizeState()) {
         PoseWithCovarianceStamped out;
         // The estimate refers to the odometry reading it names, when it names one.
-        const uint64_t device_us = s->pending_time_us() != 0 ? s->pending_time_us() : wire::time_us(*msg.header());
-        const Time stamp = ros_time(stamps_->to_ros_us(device_us, b->addr.robot(), wall_clock_us()));
+        const Time stamp = s->pending_time_us() != 0 ? stamp_at(*b, s->pending_time_us()) : stamp_of(*b, msg);
         if (fill_amcl_pose(*s, stamp, b->frame, out)) write(*b, b->writer, &out);
       }
       return;
@@ -310,12 +343,17 @@ void Ros2Bridge::on_data(DeviceId source, const wire::Message& msg) {
 }
 
 Time Ros2Bridge::stamp_of(const Bridged& b, const wire::Message& msg) {
-  const uint64_t device_us = wire::time_us(*msg.header());
+  return stamp_at(b, wire::time_us(*msg.header()));
+}
+
+Time Ros2Bridge::stamp_at(const Bridged& b, uint64_t device_us) {
   if (stamps_->sim()) latest_sim_us_ = std::max(latest_sim_us_, device_us);
   return ros_time(stamps_->to_ros_us(device_us, b.addr.robot(), wall_clock_us()));
 }
 
-Time Ros2Bridge::ros_now() const { return ros_time(stamps_->sim() ? latest_sim_us_ : wall_clock_us()); }
+Time Ros2Bridge::ros_now() const {
+  return ros_time(stamps_->sim() ? latest_sim_us_ : wall_clock_us());
+}
 
 void Ros2Bridge::write(Bridged& b, dds_entity_t w, const void* sample) {
   const dds_return_t rc = dds_write(w, sample);
@@ -356,7 +394,10 @@ void Ros2Bridge::take_commands(Bridged& b) {
         // keep the last speed it was given.
         vel = wire::Pose2d(0, 0, 0);
         b.refused++;
-        if (why != b.problem) log_warn("%s: %s: %s; refused, the base is told to stop", name_.c_str(), b.label.c_str(), why.c_str());
+        if (why != b.problem) {
+          log_warn("%s: %s: %s; refused, the base is told to stop", name_.c_str(), b.label.c_str(),
+                   why.c_str());
+        }
       } else if (v == Verdict::Clamped) {
         b.clamped++;
         if (why != b.problem) log_warn("%s: %s: %s", name_.c_str(), b.label.c_str(), why.c_str());
@@ -408,9 +449,10 @@ void Ros2Bridge::take_initial_poses(Bridged& b) {
 
 // ---- Requests to devices ---------------------------------------------------------
 
-bool Ros2Bridge::send_fetch(Bridged& b, Fetch& f, uint8_t subtype) {
-  if (!f.wanted || f.done || f.seq != 0 || node_->loop().now_us() < f.retry_at || in_flight_ >= kMaxInFlight) {
-    return false;
+void Ros2Bridge::send_fetch(Bridged& b, Fetch& f, uint8_t subtype) {
+  if (!f.wanted || f.done || f.seq != 0 || node_->loop().now_us() < f.retry_at ||
+      in_flight_ >= kMaxInFlight) {
+    return;
   }
   f.seq = ++seq_;
   in_flight_++;
@@ -420,7 +462,6 @@ bool Ros2Bridge::send_fetch(Bridged& b, Fetch& f, uint8_t subtype) {
     in_flight_--;
     f.retry_at = node_->loop().now_us() + kRetryUs;
   }
-  return true;
 }
 
 void Ros2Bridge::send_requests() {
@@ -447,9 +488,13 @@ void Ros2Bridge::on_reply(DeviceId device, const wire::Message& reply) {
   const uint32_t seq = reply.header()->seq();
   const bool ack = reply.header()->kind() == wire::Kind::Ack;
   std::string why;
+  // Only a device that is away or late is asked again.
+  bool transient = true;
   if (!ack) {
     const wire::Error* e = reply.body_as_Error();
     why = e != nullptr && e->text() != nullptr ? e->text()->str() : "refused";
+    transient =
+        e == nullptr || e->code() == wire::ErrorCode::DeviceFailed || e->code() == wire::ErrorCode::Timeout;
   }
   if (b->kind == Kind::Map) {
     if (b->map.on_reply(reply, why)) {
@@ -464,13 +509,20 @@ void Ros2Bridge::on_reply(DeviceId device, const wire::Message& reply) {
     if (f->seq != seq || seq == 0) continue;
     f->seq = 0;
     in_flight_--;
-    if (!ack) {
+    if (!ack && transient) {
       // Typically a passthrough whose remote is away: ask again later.
       f->retry_at = node_->loop().now_us() + kRetryUs;
       log_debug("%s: %s: %s", name_.c_str(), b->label.c_str(), why.c_str());
       return;
     }
     f->done = true;
+    if (!ack) {
+      // The sensor stays at the robot's origin on /tf_static, its range
+      // limits unknown (0).
+      log_info("%s: %s answers no %s: %s", name_.c_str(), b->label.c_str(),
+               f == &b->geometry ? "geometry" : "config", why.c_str());
+      return;
+    }
     if (f == &b->geometry) {
       on_geometry(*b, reply);
     } else if (const wire::RangerConfig* c = reply.body_as_RangerConfig()) {
@@ -493,7 +545,8 @@ void Ros2Bridge::on_request(DeviceId device, const wire::Message& request, Reque
   if (device != status_) return Driver::on_request(device, request, token);
   const std::string text = status_text();
   auto& fb = node_->begin();
-  auto body = wire::CreateOpaqueBytes(fb, fb.CreateVector(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  auto body = wire::CreateOpaqueBytes(
+      fb, fb.CreateVector(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
   node_->ack(token, wire::Body::OpaqueBytes, body.Union());
 }
 

@@ -58,21 +58,20 @@ class Ros2Bridge : public Driver {
   struct Fetch {
     bool wanted = false;
     bool done = false;
-    uint32_t seq = 0;        // of the request in flight, 0: none
-    uint64_t retry_at = 0;   // loop time, us
+    uint32_t seq = 0;       // of the request in flight, 0: none
+    uint64_t retry_at = 0;  // loop time, us
   };
   struct Bridged {
     DeviceId id = kNoDevice;
     wire::Address addr{};
     Kind kind = Kind::Position;
-    std::string label;          // "r0/ranger:0"
-    std::string ns;             // "r0", or "" (the root)
-    std::string topic;          // "/r0/scan"
-    std::string command_topic;  // "/r0/cmd_vel", "/r0/initialpose"
-    std::string frame;          // "r0/base_scan"; position2d: the base frame
-    std::string frame_given;    // ranger: the frames and topics options' entries
-    std::string topic_given;
-    std::string odom_frame;     // position2d: "r0/odom"
+    std::string label;                        // "r0/ranger:0"
+    std::string ns;                           // "r0", or "" (the root)
+    std::string topic;                        // "/r0/scan"
+    std::string command_topic;                // "/r0/cmd_vel", "/r0/initialpose"
+    std::string frame;                        // "r0/base_scan"; position2d: the base frame
+    std::string frame_given;                  // ranger: the frames option's entry
+    std::string odom_frame;                   // position2d: "r0/odom"
     std::vector<std::string> element_frames;  // "r0/sonar_3", "r0/bumper_1"
     dds_entity_t writer = 0;
     dds_entity_t reader = 0;
@@ -102,7 +101,9 @@ class Ros2Bridge : public Driver {
   dds_entity_t writer(const std::string& ros_topic, const dds_topic_descriptor_t& desc, const QosProfile& qos,
                       std::string& error);
   Bridged* by_id(DeviceId id);
+  /// The ROS stamp of a sample (its header's time), or of a device time, us.
   Time stamp_of(const Bridged& b, const wire::Message& msg);
+  Time stamp_at(const Bridged& b, uint64_t device_us);
   Time ros_now() const;
   void write(Bridged& b, dds_entity_t w, const void* sample);
 
@@ -124,7 +125,7 @@ class Ros2Bridge : public Driver {
   void publish_status();
 
   void send_requests();
-  bool send_fetch(Bridged& b, Fetch& f, uint8_t subtype);
+  void send_fetch(Bridged& b, Fetch& f, uint8_t subtype);
   void on_geometry(Bridged& b, const wire::Message& reply);
   bool name_ranger(Bridged& b, const wire::RangerScan& scan);
   void ranger_static_tf(Bridged& b);

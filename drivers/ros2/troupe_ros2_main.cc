@@ -89,7 +89,9 @@ bool numeric_host(const std::string& host, std::string& out, std::string& error)
   return true;
 }
 
-std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+std::string quoted(const std::string& s) {
+  return "\"" + s + "\"";
+}
 
 std::string json_list(const std::vector<std::string>& items) {
   std::string out = "[";
@@ -108,8 +110,8 @@ struct Settings {
 };
 
 // The node config: passthrough of every bridgeable device, and ros2 using them.
-std::string make_config(const Settings& s, const std::string& host, const std::vector<troupe::client::DeviceEntry>& devices,
-                        size_t& bridged) {
+std::string make_config(const Settings& s, const std::string& host,
+                        const std::vector<troupe::client::DeviceEntry>& devices, size_t& bridged) {
   std::vector<std::string> remote, local, namespaces;
   uint16_t free_opaque = 0;
   for (const auto& d : devices) {
@@ -132,16 +134,20 @@ std::string make_config(const Settings& s, const std::string& host, const std::v
   std::vector<std::string> provides = local;
   provides.push_back("opaque:" + std::to_string(free_opaque));
   char limits[160];
-  std::snprintf(limits, sizeof limits, "\"domain_id\": %d, \"max_linear\": %g, \"max_angular\": %g, \"time\": \"%s\"",
-                s.domain, s.max_linear, s.max_angular, s.time.c_str());
-  return "{\n  \"name\": \"troupe-ros2\",\n  \"listen\": \"127.0.0.1\",\n  \"port\": " + std::to_string(s.local_port) +
+  std::snprintf(limits, sizeof limits,
+                "\"domain_id\": %d, \"max_linear\": %g, \"max_angular\": %g, \"time\": \"%s\"", s.domain,
+                s.max_linear, s.max_angular, s.time.c_str());
+  return "{\n  \"name\": \"troupe-ros2\",\n  \"listen\": \"127.0.0.1\",\n  \"port\": " +
+         std::to_string(s.local_port) +
          ",\n  \"drivers\": [\n    {\n      \"name\": \"remote\",\n      \"driver_type\": \"passthrough\",\n"
-         "      \"driver\": { \"host\": " + quoted(host) + ", \"port\": " + std::to_string(s.port) +
-         ", \"remote\": " + json_list(remote) + " },\n      \"provides\": " + json_list(provides) +
-         "\n    },\n    {\n      \"name\": \"ros2\",\n      \"driver_type\": \"ros2\",\n      \"driver\": { " + limits +
-         ", \"node_name\": " + quoted(s.node_name) + ", \"namespaces\": " + json_list(namespaces) +
-         " },\n      \"uses\": " + json_list(local) + ",\n      \"provides\": [\"opaque:" +
-         std::to_string(free_opaque + 1) + "\"]\n    }\n  ]\n}\n";
+         "      \"driver\": { \"host\": " +
+         quoted(host) + ", \"port\": " + std::to_string(s.port) + ", \"remote\": " + json_list(remote) +
+         " },\n      \"provides\": " + json_list(provides) +
+         "\n    },\n    {\n      \"name\": \"ros2\",\n      \"driver_type\": \"ros2\",\n      \"driver\": "
+         "{ " +
+         limits + ", \"node_name\": " + quoted(s.node_name) + ", \"namespaces\": " + json_list(namespaces) +
+         " },\n      \"uses\": " + json_list(local) +
+         ",\n      \"provides\": [\"opaque:" + std::to_string(free_opaque + 1) + "\"]\n    }\n  ]\n}\n";
 }
 
 bool number(const char* text, double lo, double hi, double& out) {
@@ -236,7 +242,8 @@ int main(int argc, char** argv) {
     while (true) {
       troupe::client::Client client(host, s.port, co);
       if (client.connect(2000) && client.device_list(devices)) break;
-      if (!waiting_said) troupe::log_info("waiting for %s:%u (%s)", host.c_str(), s.port, client.error().c_str());
+      if (!waiting_said)
+        troupe::log_info("waiting for %s:%u (%s)", host.c_str(), s.port, client.error().c_str());
       waiting_said = true;
       timespec pending{1, 0};
       siginfo_t info;
@@ -251,7 +258,8 @@ int main(int argc, char** argv) {
   }
   std::set<std::string> skipped;
   for (const auto& d : devices) {
-    if (!bridgeable(d.addr.iface())) skipped.insert(std::string(troupe::wire::interface_name(d.addr.iface())));
+    if (!bridgeable(d.addr.iface()))
+      skipped.insert(std::string(troupe::wire::interface_name(d.addr.iface())));
   }
   if (bridged == 0) {
     troupe::log_error("%s:%u serves no device the bridge has a ROS 2 message for", host.c_str(), s.port);

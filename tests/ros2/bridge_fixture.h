@@ -71,7 +71,8 @@ class BridgeTest : public ::testing::Test {
     bridge_.stop();
     sim_.stop();
     if (HasFailure()) {
-      std::fprintf(stderr, "---- troupe-sim\n%s---- troupe-ros2\n%s", sim_.out().c_str(), bridge_.out().c_str());
+      std::fprintf(stderr, "---- troupe-sim\n%s---- troupe-ros2\n%s", sim_.out().c_str(),
+                   bridge_.out().c_str());
     }
     remove_tree(dir_);
   }
@@ -86,8 +87,8 @@ class BridgeTest : public ::testing::Test {
     ASSERT_TRUE(wait_for_listener(sim_port_, 20)) << "troupe-sim did not listen";
   }
   void start_bridge(std::vector<std::string> extra = {}) {
-    std::vector<std::string> argv = {kBin + "/troupe-ros2", "localhost:" + std::to_string(sim_port_), "--domain",
-                                     std::to_string(domain_.id())};
+    std::vector<std::string> argv = {kBin + "/troupe-ros2", "localhost:" + std::to_string(sim_port_),
+                                     "--domain", std::to_string(domain_.id())};
     argv.insert(argv.end(), extra.begin(), extra.end());
     std::string error;
     ASSERT_TRUE(bridge_.start_logged(argv, dir_ + "/bridge.log", error)) << error;

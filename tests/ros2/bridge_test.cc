@@ -89,8 +89,8 @@ TEST_F(BridgeTest, CmdVelFromFastDdsDrivesTheSimulatedRobot) {
   start_bridge();
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
-  fdds::DataWriter* cmd =
-      peer.writer("rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
+  fdds::DataWriter* cmd = peer.writer(
+      "rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
   ASSERT_TRUE(cmd && wait_matched(cmd)) << "the bridge's cmd_vel reader was not matched";
 
   // r0 starts at (-2.5, 2.5) facing east (room.world), the way clear.
@@ -115,10 +115,11 @@ TEST_F(BridgeTest, ANonFiniteCmdVelIsRefusedAndStopsTheBase) {
   start_bridge();
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
-  fdds::DataWriter* cmd =
-      peer.writer("rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
-  fdds::DataReader* diag = peer.reader(
-      "rt/diagnostics", peer.register_type<diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType>(), kReliable);
+  fdds::DataWriter* cmd = peer.writer(
+      "rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
+  fdds::DataReader* diag =
+      peer.reader("rt/diagnostics",
+                  peer.register_type<diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType>(), kReliable);
   ASSERT_TRUE(cmd && diag && wait_matched(cmd));
 
   const troupe::client::Pose2 start = ground_truth();
@@ -151,14 +152,15 @@ TEST_F(BridgeTest, AHugeCmdVelIsClampedToTheLimits) {
   start_bridge({"--max-linear", "0.2", "--max-angular", "0.3"});
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
-  fdds::DataWriter* cmd =
-      peer.writer("rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
+  fdds::DataWriter* cmd = peer.writer(
+      "rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
   ASSERT_TRUE(cmd && wait_matched(cmd));
 
   // The robot itself could go 0.5 m/s (room.world): the bridge's limit is
   // what holds it at 0.2, and the turn at -0.3 rad/s.
   auto& c = sim_client();
-  troupe::client::Position2dProxy base(c, troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Position2d), 0));
+  troupe::client::Position2dProxy base(
+      c, troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Position2d), 0));
   ASSERT_TRUE(c.open(base.address(), troupe::wire::Access::Read));
   float fastest = 0, fastest_turn = 0;
   ASSERT_TRUE(drive_until(cmd, twist(1e30, -1e30), [&] {
@@ -190,9 +192,9 @@ TEST_F(BridgeTest, MalformedSamplesOnCmdVelChangeNothing) {
 
   const troupe::client::Pose2 start = ground_truth();
   std::vector<std::vector<uint8_t>> samples = {
-      {0x00, 0x01, 0x00},                                       // shorter than the encapsulation header
-      {0x00, 0x01, 0x00, 0x00, 0x9a, 0x99, 0x99, 0x99, 0x99},   // a Twist cut after 5 of its 48 bytes
-      {0x7f, 0x7f, 0x00, 0x00},                                 // an encapsulation nobody defines
+      {0x00, 0x01, 0x00},                                      // shorter than the encapsulation header
+      {0x00, 0x01, 0x00, 0x00, 0x9a, 0x99, 0x99, 0x99, 0x99},  // a Twist cut after 5 of its 48 bytes
+      {0x7f, 0x7f, 0x00, 0x00},                                // an encapsulation nobody defines
   };
   samples.back().resize(4 + 48, 0x3f);
   for (auto& s : samples) ASSERT_TRUE(junk->write(&s));
@@ -206,8 +208,8 @@ TEST_F(BridgeTest, MalformedSamplesOnCmdVelChangeNothing) {
   // The bridge still takes well-formed commands.
   ASSERT_TRUE(bridge_.running());
   FastDdsPeer peer(domain_.id());
-  fdds::DataWriter* cmd =
-      peer.writer("rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
+  fdds::DataWriter* cmd = peer.writer(
+      "rt/r0/cmd_vel", peer.register_type<geometry_msgs::msg::dds_::Twist_PubSubType>(), kReliable);
   ASSERT_TRUE(cmd && wait_matched(cmd));
   EXPECT_TRUE(drive_until(cmd, twist(0.3, 0), [&] { return ground_truth().x - start.x > 0.1; }));
 }
@@ -217,10 +219,11 @@ TEST_F(BridgeTest, ASilentDeviceIsReportedStaleItsTopicsStayAndDataComesBack) {
   start_bridge();
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
-  fdds::DataReader* scans =
-      peer.reader("rt/r0/scan", peer.register_type<sensor_msgs::msg::dds_::LaserScan_PubSubType>(), kSensorQos);
-  fdds::DataReader* diag = peer.reader(
-      "rt/diagnostics", peer.register_type<diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType>(), kReliable);
+  fdds::DataReader* scans = peer.reader(
+      "rt/r0/scan", peer.register_type<sensor_msgs::msg::dds_::LaserScan_PubSubType>(), kSensorQos);
+  fdds::DataReader* diag =
+      peer.reader("rt/diagnostics",
+                  peer.register_type<diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType>(), kReliable);
   LaserScan s;
   ASSERT_TRUE(take(scans, s, kWaitMs));
 
@@ -255,8 +258,8 @@ TEST_F(BridgeTest, RosGraphSeesTheNodeItsEndpointsAndTheirTypeHashes) {
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
   fdds::DataReader* graph = peer.reader(
-      "ros_discovery_info", peer.register_type<rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_PubSubType>(),
-      kLatched);
+      "ros_discovery_info",
+      peer.register_type<rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_PubSubType>(), kLatched);
   ASSERT_TRUE(graph);
 
   // ROS 2 Jazzy's hashes of these types, as its own type descriptions give them.
@@ -290,7 +293,8 @@ TEST_F(BridgeTest, RosGraphSeesTheNodeItsEndpointsAndTheirTypeHashes) {
   for (int waited = 0; waited < kWaitMs && !found; waited += 100) {
     if (!take(graph, info, 100)) continue;
     for (const auto& node : info.node_entities_info_seq()) {
-      if (std::string(node.node_name()) != "troupe_bridge" || std::string(node.node_namespace()) != "/") continue;
+      if (std::string(node.node_name()) != "troupe_bridge" || std::string(node.node_namespace()) != "/")
+        continue;
       bool has_writer = false, has_reader = false;
       for (const auto& g : node.writer_gid_seq()) has_writer |= writers.count(g.data()) > 0;
       for (const auto& g : node.reader_gid_seq()) has_reader |= readers.count(g.data()) > 0;
@@ -328,7 +332,8 @@ TEST_F(BridgeTest, TransformsClockAndALatchedMap) {
   // The laser's pose on the robot, as the device states it.
   troupe::wire::Pose3d laser{};
   std::vector<troupe::wire::Pose3d> elements;
-  troupe::client::RangerProxy ranger(sim_client(), troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Ranger), 0));
+  troupe::client::RangerProxy ranger(sim_client(),
+                                     troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Ranger), 0));
   ASSERT_TRUE(ranger.geometry(laser, elements));
   TFMessage t;
   bool laser_tf = false;
@@ -367,10 +372,12 @@ TEST_F(BridgeTest, EveryRobotOfTheSwarmHasItsTopics) {
   for (int i = 0; i < 100; ++i) {
     const std::string ns = "rt/b" + std::to_string(i) + "/";
     for (const char* topic : {"odom", "sonar"}) {
-      EXPECT_TRUE(peer.wait_endpoint([&](const Endpoint& e) { return e.writer && e.topic == ns + topic; }, kWaitMs))
+      EXPECT_TRUE(
+          peer.wait_endpoint([&](const Endpoint& e) { return e.writer && e.topic == ns + topic; }, kWaitMs))
           << ns << topic;
     }
-    EXPECT_TRUE(peer.wait_endpoint([&](const Endpoint& e) { return !e.writer && e.topic == ns + "cmd_vel"; }, kWaitMs))
+    EXPECT_TRUE(peer.wait_endpoint([&](const Endpoint& e) { return !e.writer && e.topic == ns + "cmd_vel"; },
+                                   kWaitMs))
         << ns << "cmd_vel";
   }
   // A ring of 8 sonars, 1 m long (swarm100.world): one Range per transducer.
@@ -411,11 +418,13 @@ TEST_F(BridgeTest, TheDesktopExampleBridgesItsLocalizerAndMapAndTakesInitialPose
   setenv("ROS_DOMAIN_ID", std::to_string(domain_.id()).c_str(), 1);
   std::string error;
   ASSERT_TRUE(bridge_.start_logged({kBin + "/troupe-node", config}, dir_ + "/node.log", error)) << error;
-  ASSERT_TRUE(bridge_.wait_for("ros2: 4 devices on DDS domain " + std::to_string(domain_.id()), true, kWaitMs));
+  ASSERT_TRUE(
+      bridge_.wait_for("ros2: 4 devices on DDS domain " + std::to_string(domain_.id()), true, kWaitMs));
 
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
-  const std::string pose_type = peer.register_type<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>();
+  const std::string pose_type =
+      peer.register_type<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>();
   fdds::DataReader* amcl = peer.reader("rt/amcl_pose", pose_type, kLatched);
   fdds::DataWriter* initial = peer.writer("rt/initialpose", pose_type, kReliable);
   fdds::DataReader* map =
@@ -452,7 +461,8 @@ TEST_F(BridgeTest, TheDesktopExampleBridgesItsLocalizerAndMapAndTakesInitialPose
   initial->write(&moved);
   bool followed = false;
   for (int waited = 0; waited < kWaitMs && !followed; waited += 100) {
-    if (take(amcl, estimate, 100)) followed = std::fabs(estimate.pose().pose().position().x() - (truth.x + 1.5)) < 0.5;
+    if (take(amcl, estimate, 100))
+      followed = std::fabs(estimate.pose().pose().position().x() - (truth.x + 1.5)) < 0.5;
   }
   EXPECT_TRUE(followed) << "amcl_pose did not move to the initial pose given";
 }

@@ -28,7 +28,9 @@ using namespace troupe;
 namespace ros2 = troupe::drivers::ros2;
 
 constexpr uint64_t kStampUs = 12'345'678;  // every sample's time (simulated)
-wire::Address addr(wire::Interface i, uint16_t index = 0) { return wire::Address(0, uint16_t(i), index); }
+wire::Address addr(wire::Interface i, uint16_t index = 0) {
+  return wire::Address(0, uint16_t(i), index);
+}
 
 // The devices: fixed samples every 50 ms, and the replies the bridge asks
 // for. (The newest sample of each topic is what is compared: the ring's last
@@ -49,9 +51,11 @@ class Source : public Driver {
       case wire::Interface::Ranger:
         if (req.header()->subtype() == uint8_t(wire::RangerReqSub::Geometry)) {
           const wire::Pose3d pose(0.1f, 0, 0.2f, 0, 0, 0), size(0, 0, 0, 0, 0, 0);
-          const std::vector<wire::Pose3d> ring = {{0.1f, 0, 0, 0, 0, 0}, {0, 0.1f, 0, 0, 0, 1.5f}, {-0.1f, 0, 0, 0, 0, 3.0f}};
+          const std::vector<wire::Pose3d> ring = {
+              {0.1f, 0, 0, 0, 0, 0}, {0, 0.1f, 0, 0, 0, 1.5f}, {-0.1f, 0, 0, 0, 0, 3.0f}};
           const wire::Vec3 box(0.05f, 0.05f, 0.05f);
-          auto body = wire::CreateRangerGeometry(b, &pose, &box, a.index() == 1 ? b.CreateVectorOfStructs(ring) : 0);
+          auto body =
+              wire::CreateRangerGeometry(b, &pose, &box, a.index() == 1 ? b.CreateVectorOfStructs(ring) : 0);
           return node_->ack(token, wire::Body::RangerGeometry, body.Union());
         } else {
           auto body = wire::CreateRangerConfig(b, -0.5f, 0.25f, 0.25f, 0.05f, 8.0f, 0.001f, 10.0f);
@@ -60,7 +64,8 @@ class Source : public Driver {
       case wire::Interface::Bumper: {
         const std::vector<wire::BumperDef> defs = {{wire::Pose2d(0.2f, 0.1f, 0.3f), 0.1f, 0},
                                                    {wire::Pose2d(0.2f, -0.1f, -0.3f), 0.1f, 0}};
-        return node_->ack(token, wire::Body::BumperGeometry, wire::CreateBumperGeometry(b, b.CreateVectorOfStructs(defs)).Union());
+        return node_->ack(token, wire::Body::BumperGeometry,
+                          wire::CreateBumperGeometry(b, b.CreateVectorOfStructs(defs)).Union());
       }
       case wire::Interface::Map:
         if (req.header()->subtype() == uint8_t(wire::MapReqSub::Info)) {
@@ -69,7 +74,8 @@ class Source : public Driver {
         } else {
           // 12 cells, four to a byte: free, occupied, unknown, free, ...
           const std::vector<uint8_t> cells = {0b00100100, 0b10010010, 0b01001001};
-          return node_->ack(token, wire::Body::MapTile, wire::CreateMapTile(b, 0, 0, 4, 3, b.CreateVector(cells)).Union());
+          return node_->ack(token, wire::Body::MapTile,
+                            wire::CreateMapTile(b, 0, 0, 4, 3, b.CreateVector(cells)).Union());
         }
       default:
         return Driver::on_request(id, req, token);
@@ -89,7 +95,8 @@ class Source : public Driver {
       }
       case wire::Interface::Ranger: {
         const bool ring = a.index() == 1;
-        const std::vector<uint16_t> mm = ring ? std::vector<uint16_t>{500, 1000, 250} : std::vector<uint16_t>{1000, 2500, 8000, 1234};
+        const std::vector<uint16_t> mm =
+            ring ? std::vector<uint16_t>{500, 1000, 250} : std::vector<uint16_t>{1000, 2500, 8000, 1234};
         const std::vector<uint8_t> strength = {10, 20, 30, 40};
         auto body = wire::CreateRangerScan(b, b.CreateVector(mm), 0.001f, ring ? 0 : -0.5f, ring ? 0 : 0.25f,
                                            ring ? 1.0f : 8.0f, ring ? 0 : b.CreateVector(strength));
@@ -105,18 +112,22 @@ class Source : public Driver {
       }
       case wire::Interface::Imu: {
         const wire::Vec3 gyro(0, 0, 0.5f), accel(0.125f, 0, 9.75f), rpy(0, 0, 1.0f);
-        return node_->publish(id, 1, wire::Body::ImuState, wire::CreateImuState(b, &gyro, &accel, &rpy).Union(), kStampUs);
+        return node_->publish(id, 1, wire::Body::ImuState,
+                              wire::CreateImuState(b, &gyro, &accel, &rpy).Union(), kStampUs);
       }
       case wire::Interface::Bumper:
-        return node_->publish(id, 1, wire::Body::BumperState, wire::CreateBumperState(b, 0b10, 2).Union(), kStampUs);
+        return node_->publish(id, 1, wire::Body::BumperState, wire::CreateBumperState(b, 0b10, 2).Union(),
+                              kStampUs);
       case wire::Interface::Localize: {
-        const std::vector<wire::Hypothesis> h = {{wire::Pose2d(3, 4, 0.5f), wire::Cov2d(0.04f, 0, 0, 0.04f, 0, 0.01f), 1}};
+        const std::vector<wire::Hypothesis> h = {
+            {wire::Pose2d(3, 4, 0.5f), wire::Cov2d(0.04f, 0, 0, 0.04f, 0, 0.01f), 1}};
         auto body = wire::CreateLocalizeState(b, b.CreateVectorOfStructs(h));
         return node_->publish(id, 1, wire::Body::LocalizeState, body.Union(), kStampUs);
       }
       case wire::Interface::Simulation: {
         auto body = wire::CreateSimClock(b, kStampUs, 123);
-        return node_->publish(id, uint8_t(wire::SimulationDataSub::Clock), wire::Body::SimClock, body.Union(), kStampUs);
+        return node_->publish(id, uint8_t(wire::SimulationDataSub::Clock), wire::Body::SimClock, body.Union(),
+                              kStampUs);
       }
       default:
         return;
@@ -160,15 +171,16 @@ const Topic kTopics[] = {
 "orientation.z":0.479425538604203,"orientation_covariance.0":0})"},
     {"rt/bumper", "sensor_msgs/msg/Range", &sensor_msgs_msg_dds__Range__desc, false, false,
      R"({"header.frame_id":"bumper_1","min_range":0,"max_range":0,"range":"-Infinity"})"},
-    {"rt/amcl_pose", "geometry_msgs/msg/PoseWithCovarianceStamped", &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc,
-     true, true,
+    {"rt/amcl_pose", "geometry_msgs/msg/PoseWithCovarianceStamped",
+     &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, true, true,
      R"({"header.frame_id":"map","pose.pose.position.x":3,"pose.pose.position.y":4,"pose.covariance.0":0.04,"pose.covariance.35":0.01})"},
     {"rt/map", "nav_msgs/msg/OccupancyGrid", &nav_msgs_msg_dds__OccupancyGrid__desc, true, true,
      R"({"header.frame_id":"map","info.width":4,"info.height":3,"info.resolution":0.5,"info.origin.position.x":-1,
 "info.origin.position.y":-2,"data.0":0,"data.1":100,"data.2":-1,"data.3":0,"data.4":-1,"data.11":100})"},
     {"rt/clock", "rosgraph_msgs/msg/Clock", &rosgraph_msgs_msg_dds__Clock__desc, false, false,
      R"({"clock.sec":12,"clock.nanosec":345678000})"},
-    {"rt/diagnostics", "diagnostic_msgs/msg/DiagnosticArray", &diagnostic_msgs_msg_dds__DiagnosticArray__desc, true, false,
+    {"rt/diagnostics", "diagnostic_msgs/msg/DiagnosticArray", &diagnostic_msgs_msg_dds__DiagnosticArray__desc,
+     true, false,
      R"({"header.frame_id":"","status.0.hardware_id":"position2d:0","status.0.values.0.key":"topic","status.0.values.0.value":"/odom"})"},
     {"ros_discovery_info", "rmw_dds_common/msg/ParticipantEntitiesInfo",
      &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc, true, true,
@@ -215,9 +227,9 @@ int main() {
   options.port = 0;
   Node node(options);
   using I = wire::Interface;
-  const wire::Address sources[] = {addr(I::Position2d), addr(I::Ranger, 0), addr(I::Ranger, 1), addr(I::Power),
-                                   addr(I::Imu),        addr(I::Bumper),    addr(I::Localize),  addr(I::Map),
-                                   addr(I::Simulation)};
+  const wire::Address sources[] = {addr(I::Position2d), addr(I::Ranger, 0), addr(I::Ranger, 1),
+                                   addr(I::Power),      addr(I::Imu),       addr(I::Bumper),
+                                   addr(I::Localize),   addr(I::Map),       addr(I::Simulation)};
   std::vector<DeviceId> provided;
   auto source = std::make_unique<Source>();
   for (const wire::Address& a : sources) provided.push_back(node.add_device(a, source.get(), "source"));

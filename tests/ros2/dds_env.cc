@@ -14,7 +14,9 @@ namespace {
 
 // RTPS's well-known ports (DDSI-RTPS 9.6.1.1): port base 7400, domain gain
 // 250, participant gain 2; unicast discovery at offset 10, user data at 11.
-int unicast_port(int domain, int participant, int offset) { return 7400 + 250 * domain + offset + 2 * participant; }
+int unicast_port(int domain, int participant, int offset) {
+  return 7400 + 250 * domain + offset + 2 * participant;
+}
 
 bool udp_port_free(int port) {
   const int fd = socket(AF_INET, SOCK_DGRAM, 0);
@@ -65,7 +67,8 @@ std::string cyclone_loopback_config() {
   return "<CycloneDDS><Domain id=\"any\">"
          "<General><Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces>"
          "<AllowMulticast>false</AllowMulticast></General>"
-         "<Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>20</MaxAutoParticipantIndex>"
+         "<Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>20</"
+         "MaxAutoParticipantIndex>"
          "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
          "</Domain></CycloneDDS>";
 }

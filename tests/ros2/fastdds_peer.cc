@@ -1,16 +1,16 @@
 #include "tests/ros2/fastdds_peer.h"
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+#include <chrono>
+#include <cstring>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/TopicDataType.hpp>
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <fastrtps/utils/IPLocator.h>
-
-#include <chrono>
-#include <cstring>
 #include <thread>
 
 // Debian 12's libfastrtps 2.9 deletes its statistics readers and writers
@@ -18,7 +18,9 @@
 // reports (new-delete-type-mismatch) when a participant goes: a defect of
 // the library, not of the code under test. Everything else stays checked.
 #if defined(__SANITIZE_ADDRESS__)
-extern "C" const char* __asan_default_options() { return "new_delete_type_mismatch=0"; }
+extern "C" const char* __asan_default_options() {
+  return "new_delete_type_mismatch=0";
+}
 #endif
 
 namespace troupe::testing::ros2 {
@@ -67,7 +69,8 @@ std::array<uint8_t, 16> guid_bytes(const rtps::GUID_t& g) {
 template <class Qos>
 void apply(Qos& q, const PeerQos& p) {
   q.reliability().kind = p.reliable ? dds::RELIABLE_RELIABILITY_QOS : dds::BEST_EFFORT_RELIABILITY_QOS;
-  q.durability().kind = p.transient_local ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
+  q.durability().kind =
+      p.transient_local ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
   q.history().kind = dds::KEEP_LAST_HISTORY_QOS;
   q.history().depth = p.depth;
 }
@@ -90,8 +93,8 @@ FastDdsPeer::FastDdsPeer(int domain) {
   rtps::Locator_t peer;
   rtps::IPLocator::setIPv4(peer, "127.0.0.1");
   q.wire_protocol().builtin.initialPeersList.push_back(peer);
-  participant_ = dds::DomainParticipantFactory::get_instance()->create_participant(
-      uint32_t(domain), q, this, dds::StatusMask::none());
+  participant_ = dds::DomainParticipantFactory::get_instance()->create_participant(uint32_t(domain), q, this,
+                                                                                   dds::StatusMask::none());
   if (participant_ == nullptr) return;
   publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
@@ -109,7 +112,8 @@ void FastDdsPeer::register_raw_type(const std::string& name) {
 }
 
 dds::Topic* FastDdsPeer::topic(const std::string& name, const std::string& type) {
-  if (dds::TopicDescription* d = participant_->lookup_topicdescription(name)) return static_cast<dds::Topic*>(d);
+  if (dds::TopicDescription* d = participant_->lookup_topicdescription(name))
+    return static_cast<dds::Topic*>(d);
   return participant_->create_topic(name, type, dds::TOPIC_QOS_DEFAULT);
 }
 

@@ -4,15 +4,14 @@
 // ends agree only if both follow ROS 2's names and plain CDR.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
-#include <array>
-#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -45,8 +44,10 @@ class FastDdsPeer : public eprosima::fastdds::dds::DomainParticipantListener {
   bool ok() const { return participant_ != nullptr; }
 
   /// A reader or writer of a registered type (register_type<T>() first).
-  eprosima::fastdds::dds::DataReader* reader(const std::string& topic, const std::string& type, const PeerQos& qos);
-  eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, const std::string& type, const PeerQos& qos);
+  eprosima::fastdds::dds::DataReader* reader(const std::string& topic, const std::string& type,
+                                             const PeerQos& qos);
+  eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, const std::string& type,
+                                             const PeerQos& qos);
   /// Registers a fastddsgen PubSubType; returns its DDS type name.
   template <class PubSubType>
   std::string register_type() {

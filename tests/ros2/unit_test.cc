@@ -8,8 +8,8 @@
 #include <map>
 
 #include "drivers/ros2/convert.h"
-#include "drivers/ros2/ros2.h"
 #include "drivers/ros2/names.h"
+#include "drivers/ros2/ros2.h"
 #include "drivers/ros2/ros2_type_hashes.h"
 #include "drivers/ros2/stamps.h"
 #include "runtime/node.h"
@@ -39,13 +39,16 @@ TEST(Ros2TypeHash, EveryTypeHashesAsRos2JazzyPublishesIt) {
       {"geometry_msgs/msg/Quaternion", "8a765f66778c8ff7c8ab94afcc590a2ed5325a1d9a076ffff38fbce36f458684"},
       {"geometry_msgs/msg/Vector3", "cc12fe83e4c02719f1ce8070bfd14aecd40f75a96696a67a2a1f37f7dbb0765d"},
       {"geometry_msgs/msg/Pose", "d501954e9476cea2996984e812054b68026ae0bfae789d9a10b23daf35cc90fa"},
-      {"geometry_msgs/msg/PoseWithCovariance", "9a7c0fd234b7f45c6098745ecccd773ca1085670e64107135397aee31c02e1bb"},
+      {"geometry_msgs/msg/PoseWithCovariance",
+       "9a7c0fd234b7f45c6098745ecccd773ca1085670e64107135397aee31c02e1bb"},
       {"geometry_msgs/msg/PoseWithCovarianceStamped",
        "26432f9803e43727d3c8f668d1fdb3c630f548af631e2f4e31382371bfea3b6e"},
       {"geometry_msgs/msg/Transform", "beb83fbe698636351461f6f35d1abb20010c43d55374d81bd041f1ba2581fddc"},
-      {"geometry_msgs/msg/TransformStamped", "0a241f87d04668d94099cbb5ba11691d5ad32c2f29682e4eb5653424bd275206"},
+      {"geometry_msgs/msg/TransformStamped",
+       "0a241f87d04668d94099cbb5ba11691d5ad32c2f29682e4eb5653424bd275206"},
       {"geometry_msgs/msg/Twist", "9c45bf16fe0983d80e3cfe750d6835843d265a9a6c46bd2e609fcddde6fb8d2a"},
-      {"geometry_msgs/msg/TwistWithCovariance", "49f574f033f095d8b6cd1beaca5ca7925e296e84af1716d16c89d38b059c8c18"},
+      {"geometry_msgs/msg/TwistWithCovariance",
+       "49f574f033f095d8b6cd1beaca5ca7925e296e84af1716d16c89d38b059c8c18"},
       {"nav_msgs/msg/MapMetaData", "2772d4b2000ef2b35dbaeb80fd3946c1369f817fb4f75677d916d27c17d763c8"},
       {"nav_msgs/msg/OccupancyGrid", "8d348150c12913a31ee0ec170fbf25089e4745d17035792a1ba94d6f0bc0cfc7"},
       {"nav_msgs/msg/Odometry", "3cc97dc7fb7502f8714462c526d369e35b603cfc34d946e3f2eda2766dfec6e0"},
@@ -56,10 +59,13 @@ TEST(Ros2TypeHash, EveryTypeHashesAsRos2JazzyPublishesIt) {
       {"tf2_msgs/msg/TFMessage", "e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"},
       {"rosgraph_msgs/msg/Clock", "692f7a66e93a3c83e71765d033b60349ba68023a8c689a79e48078bcb5c58564"},
       {"diagnostic_msgs/msg/KeyValue", "d68081eaa540288c5440753baecef0c4e16e81a5f78ad68902ded5100413bb42"},
-      {"diagnostic_msgs/msg/DiagnosticStatus", "b0e3e692ea2d54a8af2f4ef1930e81556a2db55216b771f8a7d2724ed47bf0e4"},
-      {"diagnostic_msgs/msg/DiagnosticArray", "5a8a36efb05fb25070fa0fb3810290c0e6cd4862b54a8fb975a1ee8dc55a333e"},
+      {"diagnostic_msgs/msg/DiagnosticStatus",
+       "b0e3e692ea2d54a8af2f4ef1930e81556a2db55216b771f8a7d2724ed47bf0e4"},
+      {"diagnostic_msgs/msg/DiagnosticArray",
+       "5a8a36efb05fb25070fa0fb3810290c0e6cd4862b54a8fb975a1ee8dc55a333e"},
       {"rmw_dds_common/msg/Gid", "ab6f21cfbb0a6dbb837161e1110c2051a2850ed9f9c53944d7115d9bcebedf71"},
-      {"rmw_dds_common/msg/NodeEntitiesInfo", "8ffef65ee2d088c63b1e8fcd31e800ba9fc8dbe0ee15ca60d1676de5218087a7"},
+      {"rmw_dds_common/msg/NodeEntitiesInfo",
+       "8ffef65ee2d088c63b1e8fcd31e800ba9fc8dbe0ee15ca60d1676de5218087a7"},
       {"rmw_dds_common/msg/ParticipantEntitiesInfo",
        "91a0593bacdcc50ea9bdcf849a938b128412cc1ea821245c663bcd26f83c295e"},
   };
@@ -103,7 +109,8 @@ TEST(Ros2Convert, QuaternionsAndCovariances) {
 TEST(Ros2Convert, OdometryAndItsTransform) {
   flatbuffers::FlatBufferBuilder b;
   const wire::Pose2d pose(1.5f, -2.0f, 0.75f), vel(0.3f, 0.0f, -0.1f);
-  const auto* s = build<wire::Position2dState>(b, [&](auto& fb) { return wire::CreatePosition2dState(fb, &pose, &vel); });
+  const auto* s =
+      build<wire::Position2dState>(b, [&](auto& fb) { return wire::CreatePosition2dState(fb, &pose, &vel); });
   const std::string odom = "r0/odom", base = "r0/base_link";
   Odometry o;
   fill_odometry(*s, ros_time(12'345'678), odom, base, o);
@@ -127,8 +134,9 @@ TEST(Ros2Convert, OdometryAndItsTransform) {
 TEST(Ros2Convert, ScansRingsAndNoReturn) {
   flatbuffers::FlatBufferBuilder b;
   const std::vector<uint16_t> mm = {500, 8000, 9000, 1234};
-  const auto* scan = build<wire::RangerScan>(
-      b, [&](auto& fb) { return wire::CreateRangerScan(fb, fb.CreateVector(mm), 0.001f, -1.0f, 0.5f, 8.0f); });
+  const auto* scan = build<wire::RangerScan>(b, [&](auto& fb) {
+    return wire::CreateRangerScan(fb, fb.CreateVector(mm), 0.001f, -1.0f, 0.5f, 8.0f);
+  });
   ASSERT_TRUE(is_scan(*scan));
   EXPECT_FLOAT_EQ(range_at(*scan, 0), 0.5f);
   EXPECT_TRUE(std::isinf(range_at(*scan, 1))) << "at max_range: no return";
@@ -147,8 +155,9 @@ TEST(Ros2Convert, ScansRingsAndNoReturn) {
   EXPECT_EQ(out.intensities._length, 0u);
 
   flatbuffers::FlatBufferBuilder rb;
-  const auto* ring = build<wire::RangerScan>(
-      rb, [&](auto& fb) { return wire::CreateRangerScan(fb, fb.CreateVector(mm), 0.001f, 0.0f, 0.0f, 5.0f); });
+  const auto* ring = build<wire::RangerScan>(rb, [&](auto& fb) {
+    return wire::CreateRangerScan(fb, fb.CreateVector(mm), 0.001f, 0.0f, 0.0f, 5.0f);
+  });
   EXPECT_FALSE(is_scan(*ring)) << "separate transducers leave angular_res 0";
   Range r;
   fill_sonar_range(*ring, 3, ros_time(1), frame, 0.35f, 0.1f, r);
@@ -181,7 +190,8 @@ TEST(Ros2Convert, BatteryAndImuSayWhatWasNotMeasured) {
   EXPECT_EQ(bs.current, -2.0f) << "negative while discharging";
   EXPECT_FLOAT_EQ(bs.percentage, 0.8f);
   EXPECT_TRUE(std::isnan(bs.charge) && std::isnan(bs.temperature) && std::isnan(bs.capacity));
-  EXPECT_EQ(bs.power_supply_status, sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_DISCHARGING);
+  EXPECT_EQ(bs.power_supply_status,
+            sensor_msgs_msg_dds__BatteryState_Constants_POWER_SUPPLY_STATUS_DISCHARGING);
   EXPECT_TRUE(bs.present);
 
   flatbuffers::FlatBufferBuilder ib;
@@ -308,7 +318,8 @@ bool bridge_on(const std::vector<wire::Address>& addrs, const std::string& json,
   auto devices = std::make_unique<Devices>();
   std::vector<DeviceId> ids;
   for (const wire::Address& a : addrs) ids.push_back(node.add_device(a, devices.get(), "devices"));
-  const DeviceId status = node.add_device(wire::Address(0, uint16_t(wire::Interface::Opaque), 9), nullptr, "ros2");
+  const DeviceId status =
+      node.add_device(wire::Address(0, uint16_t(wire::Interface::Opaque), 9), nullptr, "ros2");
   DriverSetup d;
   d.provides = ids;
   if (!node.add_driver(std::move(devices), d, error)) return false;

@@ -27,15 +27,17 @@ std::string hex_of(const std::string& text) {
 }
 
 TEST_F(BridgeTest, TsharkFindsRos2TopicAndTypeNamesOnTheWire) {
-  if (access("/usr/bin/tshark", X_OK) != 0) GTEST_SKIP() << "tshark is missing (Debian: apt-get install tshark)";
+  if (access("/usr/bin/tshark", X_OK) != 0)
+    GTEST_SKIP() << "tshark is missing (Debian: apt-get install tshark)";
   // Only this test's domain: its 250 ports.
   const int base = 7400 + 250 * domain_.id();
   const std::string capture = dir_ + "/bridge.pcapng";
   ChildProcess tshark;
   std::string error;
-  ASSERT_TRUE(tshark.start({"tshark", "-i", "lo", "-f",
-                            "udp portrange " + std::to_string(base) + "-" + std::to_string(base + 249), "-w", capture},
-                           dir_, "tshark", error))
+  ASSERT_TRUE(tshark.start(
+      {"tshark", "-i", "lo", "-f", "udp portrange " + std::to_string(base) + "-" + std::to_string(base + 249),
+       "-w", capture},
+      dir_, "tshark", error))
       << error;
   if (!tshark.wait_for("Capturing on", true, kWaitMs)) {
     GTEST_SKIP() << "tshark cannot capture on loopback here (root needed): " << tshark.err();
@@ -45,8 +47,8 @@ TEST_F(BridgeTest, TsharkFindsRos2TopicAndTypeNamesOnTheWire) {
   start_bridge();
   FastDdsPeer peer(domain_.id());
   ASSERT_TRUE(peer.ok());
-  fdds::DataReader* scans =
-      peer.reader("rt/r0/scan", peer.register_type<sensor_msgs::msg::dds_::LaserScan_PubSubType>(), kSensorQos);
+  fdds::DataReader* scans = peer.reader(
+      "rt/r0/scan", peer.register_type<sensor_msgs::msg::dds_::LaserScan_PubSubType>(), kSensorQos);
   LaserScan s;
   ASSERT_TRUE(take(scans, s, kWaitMs));
   const std::pair<std::string, std::string> want[] = {
@@ -59,14 +61,16 @@ TEST_F(BridgeTest, TsharkFindsRos2TopicAndTypeNamesOnTheWire) {
   };
   // Everything discovered has crossed the wire, then (and the capture holds it).
   for (const auto& w : want) {
-    EXPECT_TRUE(peer.wait_endpoint([&](const Endpoint& e) { return e.topic == w.first; }, kWaitMs)) << w.first;
+    EXPECT_TRUE(peer.wait_endpoint([&](const Endpoint& e) { return e.topic == w.first; }, kWaitMs))
+        << w.first;
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   tshark.stop();
 
-  const ProgramResult r = run_to_end({"tshark", "-r", capture, "-Y", "rtps", "-T", "fields", "-e",
-                                      "rtps.param.topicName", "-e", "rtps.param.typeName", "-e", "rtps.param.userData"},
-                                     60000);
+  const ProgramResult r =
+      run_to_end({"tshark", "-r", capture, "-Y", "rtps", "-T", "fields", "-e", "rtps.param.topicName", "-e",
+                  "rtps.param.typeName", "-e", "rtps.param.userData"},
+                 60000);
   ASSERT_EQ(r.status, 0) << r.err;
   std::set<std::pair<std::string, std::string>> names;
   std::string user_data;
@@ -89,13 +93,16 @@ TEST_F(BridgeTest, TsharkFindsRos2TopicAndTypeNamesOnTheWire) {
     for (size_t i = 0; i < topic.size() && i < type.size(); ++i) names.insert({topic[i], type[i]});
     user_data += data;
   }
-  for (const auto& w : want) EXPECT_EQ(names.count(w), 1u) << w.first << " " << w.second << " not in the capture";
+  for (const auto& w : want)
+    EXPECT_EQ(names.count(w), 1u) << w.first << " " << w.second << " not in the capture";
   // The scan writer's user data, as the dissector shows the bytes.
   std::string digits;
   for (char c : user_data) {
-    if (std::isxdigit(static_cast<unsigned char>(c))) digits += char(std::tolower(static_cast<unsigned char>(c)));
+    if (std::isxdigit(static_cast<unsigned char>(c)))
+      digits += char(std::tolower(static_cast<unsigned char>(c)));
   }
-  EXPECT_NE(digits.find(hex_of("typehash=RIHS01_64c191398013af96509d518dac71d5164f9382553fce5c1f8cca5be7924bd828;")),
+  EXPECT_NE(digits.find(
+                hex_of("typehash=RIHS01_64c191398013af96509d518dac71d5164f9382553fce5c1f8cca5be7924bd828;")),
             std::string::npos);
 }
 

@@ -77,9 +77,12 @@ int main(int argc, char** argv) {
   int repeats = 3;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--seconds") seconds = std::atof(argv[i + 1]);
-    else if (a == "--repeats") repeats = std::atoi(argv[i + 1]);
-    else if (a == "--rate") rate = std::atof(argv[i + 1]);
+    if (a == "--seconds")
+      seconds = std::atof(argv[i + 1]);
+    else if (a == "--repeats")
+      repeats = std::atoi(argv[i + 1]);
+    else if (a == "--rate")
+      rate = std::atof(argv[i + 1]);
   }
   testing::ros2::DdsDomain domain;
   const std::string dir = testing::make_temp_dir("bench-ros2-latency");
@@ -88,12 +91,13 @@ int main(int argc, char** argv) {
 
   // The device: a kinematic base publishing its odometry at `rate`.
   const uint16_t port = testing::free_port();
-  std::ofstream(dir + "/base.json") << R"({ "name": "base", "drivers": [ { "driver_type": "kinematic", "driver": { "rate_hz": )"
-                                    << rate << R"( }, "provides": ["position2d:0"] } ] })";
+  std::ofstream(dir + "/base.json")
+      << R"({ "name": "base", "drivers": [ { "driver_type": "kinematic", "driver": { "rate_hz": )" << rate
+      << R"( }, "provides": ["position2d:0"] } ] })";
   testing::ChildProcess node, bridge;
   std::string error;
-  if (!node.start_logged({kBin + "/troupe-node", dir + "/base.json", "--port", std::to_string(port)}, dir + "/node.log",
-                         error) ||
+  if (!node.start_logged({kBin + "/troupe-node", dir + "/base.json", "--port", std::to_string(port)},
+                         dir + "/node.log", error) ||
       !testing::wait_for_listener(port, 30) ||
       !bridge.start_logged({kBin + "/troupe-ros2", "127.0.0.1:" + std::to_string(port), "--domain",
                             std::to_string(domain.id()), "--time", "sim", "--log-level", "warn"},
@@ -105,8 +109,8 @@ int main(int argc, char** argv) {
   Arrivals via_client, via_dds;
   testing::ros2::FastDdsPeer peer(domain.id());
   OdomListener listener(via_dds);
-  fdds::DataReader* reader =
-      peer.reader("rt/odom", peer.register_type<nav_msgs::msg::dds_::Odometry_PubSubType>(), {true, false, 100});
+  fdds::DataReader* reader = peer.reader(
+      "rt/odom", peer.register_type<nav_msgs::msg::dds_::Odometry_PubSubType>(), {true, false, 100});
   if (reader == nullptr) return 1;
   reader->set_listener(&listener);
   client::Client c("127.0.0.1", port);
@@ -149,13 +153,14 @@ int main(int argc, char** argv) {
     added_p99.push_back(sa.p99);
   }
   auto med = [](std::vector<double> v) { return bench::percentile(v, 50); };
-  std::printf("odometry at %.0f Hz, %d x %.0f s, %zu samples seen by both (medians of the repeats)\n\n", rate, repeats,
-              seconds, pairs);
+  std::printf("odometry at %.0f Hz, %d x %.0f s, %zu samples seen by both (medians of the repeats)\n\n", rate,
+              repeats, seconds, pairs);
   std::printf("| path | median us | p99 us |\n|---|---:|---:|\n");
   std::printf("| troupe-node -> Troupe client | %.0f | %.0f |\n", med(client_med), med(client_p99));
   std::printf("| troupe-node -> troupe-ros2 -> ROS 2 subscriber (Fast DDS) | %.0f | %.0f |\n", med(dds_med),
               med(dds_p99));
-  std::printf("| added by the bridge (same sample, paired) | %.0f | %.0f |\n", med(added_med), med(added_p99));
+  std::printf("| added by the bridge (same sample, paired) | %.0f | %.0f |\n", med(added_med),
+              med(added_p99));
   bridge.stop();
   node.stop();
   testing::remove_tree(dir);

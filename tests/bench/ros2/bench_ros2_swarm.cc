@@ -44,7 +44,8 @@ class Swarm : public Driver {
       auto& b = node_->begin();
       if (a.iface() == uint16_t(wire::Interface::Position2d)) {
         const wire::Pose2d pose(float(tick_) * 0.01f, float(a.robot()), 0), vel(0.2f, 0, 0);
-        node_->publish(id, 1, wire::Body::Position2dState, wire::CreatePosition2dState(b, &pose, &vel).Union());
+        node_->publish(id, 1, wire::Body::Position2dState,
+                       wire::CreatePosition2dState(b, &pose, &vel).Union());
       } else if (tick_ % 2 == 0) {
         for (size_t i = 0; i < ranges_.size(); ++i) ranges_[i] = uint16_t(1000 + (i * 37 + tick_) % 3000);
         auto body = wire::CreateRangerScan(b, b.CreateVector(ranges_), 0.001f, -1.57f,
@@ -79,10 +80,12 @@ class Counter : public fdds::DataReaderListener {
     fdds::SampleInfo info;
     if (scans_) {
       sensor_msgs::msg::dds_::LaserScan_ s;
-      while (reader->take_next_sample(&s, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) count++;
+      while (reader->take_next_sample(&s, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
+        count++;
     } else {
       nav_msgs::msg::dds_::Odometry_ o;
-      while (reader->take_next_sample(&o, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) count++;
+      while (reader->take_next_sample(&o, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
+        count++;
     }
   }
   explicit Counter(bool scans) : scans_(scans) {}
@@ -117,10 +120,14 @@ int main(int argc, char** argv) {
   double seconds = 10;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--robots") robots = std::atoi(argv[i + 1]);
-    else if (a == "--beams") beams = std::atoi(argv[i + 1]);
-    else if (a == "--seconds") seconds = std::atof(argv[i + 1]);
-    else if (a == "--repeats") repeats = std::atoi(argv[i + 1]);
+    if (a == "--robots")
+      robots = std::atoi(argv[i + 1]);
+    else if (a == "--beams")
+      beams = std::atoi(argv[i + 1]);
+    else if (a == "--seconds")
+      seconds = std::atof(argv[i + 1]);
+    else if (a == "--repeats")
+      repeats = std::atoi(argv[i + 1]);
   }
   testing::ros2::DdsDomain domain;
   const std::string dir = testing::make_temp_dir("bench-ros2-swarm");
@@ -138,7 +145,8 @@ int main(int argc, char** argv) {
   for (int r = 0; r < robots; ++r) {
     const std::string name = "r" + std::to_string(r);
     for (auto iface : {wire::Interface::Position2d, wire::Interface::Ranger}) {
-      ids.push_back(node.add_device(wire::Address(uint16_t(r), uint16_t(iface), 0), swarm.get(), "swarm", name));
+      ids.push_back(
+          node.add_device(wire::Address(uint16_t(r), uint16_t(iface), 0), swarm.get(), "swarm", name));
       const std::string what = std::string(wire::interface_name(uint16_t(iface))) + ":0";
       remote += std::string(remote.empty() ? "" : ", ") + "\"" + name + "/" + what + "\"";
       local += std::string(local.empty() ? "" : ", ") + "\"" + std::to_string(r) + "/" + what + "\"";
@@ -186,11 +194,11 @@ int main(int argc, char** argv) {
     return n;
   };
 
-
   std::vector<double> base_cpu, bridge_cpu, in_rate, out_rate;
   for (int rep = 0; rep < repeats; ++rep) {
     testing::ChildProcess baseline;
-    if (!baseline.start_logged({kBin + "/troupe-node", dir + "/passthrough.json"}, dir + "/baseline.log", error) ||
+    if (!baseline.start_logged({kBin + "/troupe-node", dir + "/passthrough.json"}, dir + "/baseline.log",
+                               error) ||
         !baseline.wait_for("connected to", true, 30000)) {
       return fail("the passthrough node did not connect: " + error + baseline.out());
     }
@@ -232,9 +240,12 @@ int main(int argc, char** argv) {
   serving.join();
 
   auto med = [](std::vector<double> v) { return bench::percentile(v, 50); };
-  std::printf("%d robots: odometry at 20 Hz, scans of %d beams at 10 Hz (%d samples/s); %d x %.0f s, medians\n\n",
-              robots, beams, robots * 30, repeats, seconds);
-  std::printf("| process | CPU, %% of one core | samples/s bridged | samples/s received over DDS |\n|---|---:|---:|---:|\n");
+  std::printf(
+      "%d robots: odometry at 20 Hz, scans of %d beams at 10 Hz (%d samples/s); %d x %.0f s, medians\n\n",
+      robots, beams, robots * 30, repeats, seconds);
+  std::printf(
+      "| process | CPU, %% of one core | samples/s bridged | samples/s received over DDS "
+      "|\n|---|---:|---:|---:|\n");
   std::printf("| troupe-node, passthrough only | %.1f | - | - |\n", med(base_cpu));
   std::printf("| troupe-ros2 (passthrough + bridge) | %.1f | %.0f | %.0f |\n", med(bridge_cpu), med(in_rate),
               med(out_rate));
