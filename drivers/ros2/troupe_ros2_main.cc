@@ -45,9 +45,9 @@ const char kUsage[] =
     "name the peers in CYCLONEDDS_URI (see drivers/ros2/README.md).\n"
     "\n"
     "examples:\n"
-    "  troupe-sim examples/worlds/swarm100.world &\n"
-    "  troupe ros2 localhost\n"
-    "  troupe ros2 192.168.1.20:6665 --domain 7\n";
+    "  troupe ros2 localhost                       # e.g. troupe-sim examples/worlds/swarm100.world\n"
+    "  troupe ros2 192.168.1.20:6665 --domain 7\n"
+    "  troupe ros2 localhost --print-config > bridge.json    # then: troupe-node bridge.json\n";
 
 // Interfaces the ros2 driver has a ROS 2 message for.
 bool bridgeable(uint16_t iface) {
