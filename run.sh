@@ -9,11 +9,12 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-# What building needs, and what the tests need on top.
+# What building needs, and what the tests need on top (the demo installs
+# only the first list: its build leaves the tests out).
 BUILD_PACKAGES=(cmake ninja-build g++ libflatbuffers-dev flatbuffers-compiler
-  libeigen3-dev libpng-dev zlib1g-dev libserial-dev libboost-dev
+  libeigen3-dev libpng-dev zlib1g-dev libserial-dev libboost-dev libcli11-dev
   cyclonedds-dev cyclonedds-tools)
-TEST_PACKAGES=(libgtest-dev clang-14 libclang-rt-14-dev
+TEST_PACKAGES=(libgtest-dev pkgconf clang-14 libclang-rt-14-dev
   qemu-system-x86 busybox-static cpio iproute2
   g++-arm-linux-gnueabihf g++-aarch64-linux-gnu g++-powerpc-linux-gnu qemu-user
   python3 python3-flatbuffers chromium
@@ -42,10 +43,20 @@ install_node() {
   install_packages nodejs npm
 }
 
+# build PRESET [CMAKE ARGS...]
 build() {
-  say "building (preset $1)"
-  cmake --preset "$1" >/dev/null
-  cmake --build --preset "$1" -j "$(nproc)"
+  local preset=$1
+  shift
+  say "building (preset $preset)"
+  cmake --preset "$preset" "$@" >/dev/null
+  cmake --build --preset "$preset" -j "$(nproc)"
+}
+
+# The demo's build leaves the tests out (BUILD_TESTING=OFF), so it needs
+# neither GoogleTest nor anything the tests run; a build folder already
+# configured with its tests keeps them.
+demo_testing() {
+  grep -qs '^BUILD_TESTING:BOOL=ON$' "build/$1/CMakeCache.txt" && echo ON || echo OFF
 }
 
 SIM_PID=""
@@ -60,7 +71,7 @@ stop_sim() {
 demo() {
   install_packages "${BUILD_PACKAGES[@]}"
   install_node
-  build host-release
+  build host-release -DBUILD_TESTING="$(demo_testing host-release)"
   local bin=build/host-release port=6665 out=build/demo
   local troupe="$bin/bin/troupe" host="localhost:$port"
   local world=examples/worlds/swarm100.world

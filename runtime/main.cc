@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <string>
 
+#include "runtime/args.h"
 #include "runtime/log.h"
 #include "runtime/node_config.h"
 #include "runtime/stop_signals.h"
@@ -33,34 +35,9 @@ int main(int argc, char** argv) {
   const char* port = nullptr;
   const char* listen = nullptr;
   const char* level = nullptr;
-  for (int i = 1; i < argc; ++i) {
-    auto value = [&](const char* flag) -> const char* {
-      if (i + 1 >= argc) {
-        fprintf(stderr, "troupe-node: %s needs a value\n%s", flag, kUsage);
-        exit(2);
-      }
-      return argv[++i];
-    };
-    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-      fputs(kUsage, stdout);
-      return 0;
-    } else if (strcmp(argv[i], "--port") == 0) {
-      port = value("--port");
-    } else if (strcmp(argv[i], "--listen") == 0) {
-      listen = value("--listen");
-    } else if (strcmp(argv[i], "--log-level") == 0) {
-      level = value("--log-level");
-    } else if (argv[i][0] == '-' || config_path != nullptr) {
-      fprintf(stderr, "troupe-node: unexpected argument '%s'\n%s", argv[i], kUsage);
-      return 2;
-    } else {
-      config_path = argv[i];
-    }
-  }
-  if (config_path == nullptr) {
-    fputs(kUsage, stderr);
-    return 2;
-  }
+  const troupe::Flag flags[] = {{"--port", &port}, {"--listen", &listen}, {"--log-level", &level}};
+  const troupe::CommandLine line{"troupe-node", kUsage, flags, std::size(flags), &config_path};
+  if (int rc = troupe::parse_command_line(line, argc, argv); rc >= 0) return rc;
 
   std::string error;
   troupe::LoadedConfig cfg;

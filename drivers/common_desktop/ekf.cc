@@ -180,7 +180,7 @@ PoseEkf::Outcome PoseEkf::add_odometry(double t, const Pose2& odom) {
     return ready() ? Outcome::Applied : Outcome::NotReady;
   }
   double dt = t - odom_time_s_;
-  Pose2 d = between(last_odom_, odom);
+  Pose2 d = relative(last_odom_, odom);
   odom_time_s_ = t;
   last_odom_ = odom;
   Measurement m;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -52,19 +53,21 @@ bool LandmarkTable::parse(const std::string& text, const std::string& name, std:
   std::string word;
   int version = 0;
   if (!next(words) || !(words >> word >> version) || word != "troupe-landmarks")
-    return fail("not a landmark table (expected 'troupe-landmarks 1')");
-  if (version != 1) return fail("landmark table version " + std::to_string(version) + ", this build reads 1");
+    return fail("not a landmark table (expected 'troupe-landmarks 2')");
+  if (version != 2) return fail("landmark table version " + std::to_string(version) + ", this build reads 2");
   if (!next(words) || !(words >> word >> x0_ >> y0_ >> step_ >> nx_ >> ny_ >> headings_) || word != "grid")
     return fail("expected 'grid X0 Y0 STEP NX NY HEADINGS'");
   if (!std::isfinite(x0_) || !std::isfinite(y0_) || !(step_ > 0) || !std::isfinite(step_) || nx_ < 2 ||
       ny_ < 2 || headings_ < 1)
     return fail("grid: the step must be > 0, at least 2 x 2 positions and 1 heading");
   size_t n = 0;
-  if (!next(words) || !(words >> word >> n) || word != "codes") return fail("expected 'codes N C1 ... CN'");
-  if (n == 0 || n > 1000) return fail("codes: between 1 and 1000 landmarks");
-  codes_.resize(n);
-  for (int32_t& c : codes_) {
-    if (!(words >> c)) return fail("codes: expected " + std::to_string(n) + " landmark codes");
+  if (!next(words) || !(words >> word >> n) || word != "landmarks")
+    return fail("expected 'landmarks N KIND:ID ...'");
+  if (n == 0 || n > 1000) return fail("landmarks: between 1 and 1000");
+  keys_.resize(n);
+  for (LandmarkKey& k : keys_) {
+    if (!(words >> word)) return fail("landmarks: expected " + std::to_string(n) + " KIND:ID");
+    if (!wire::parse_fiducial_key(word, k)) return fail("landmarks: '" + word + "' is not KIND:ID (kind: ball, goal, post, ...)");
   }
   const uint64_t total = uint64_t(nx_) * uint64_t(ny_) * uint64_t(headings_) * n * 2;
   if (total > kMaxNumbers) return fail("grid too large: " + std::to_string(total) + " numbers");
@@ -86,9 +89,9 @@ bool LandmarkTable::parse(const std::string& text, const std::string& name, std:
   return true;
 }
 
-int LandmarkTable::column(int32_t code) const {
-  for (size_t k = 0; k < codes_.size(); ++k) {
-    if (codes_[k] == code) return int(k);
+int LandmarkTable::column(const LandmarkKey& key) const {
+  for (size_t k = 0; k < keys_.size(); ++k) {
+    if (keys_[k] == key) return int(k);
   }
   return -1;
 }
@@ -119,7 +122,7 @@ bool LandmarkTable::expected(const Pose2& pose, int k, double& x, double& y) con
 void LandmarkLikelihood::set(std::span<const LandmarkObservation> observations) {
   used_.clear();
   for (const LandmarkObservation& o : observations) {
-    const int k = table_.column(o.code);
+    const int k = table_.column(o.key);
     if (k < 0 || !std::isfinite(o.x) || !std::isfinite(o.y)) continue;
     used_.push_back({k, std::hypot(o.x, o.y), std::atan2(o.y, o.x)});
   }

@@ -15,9 +15,10 @@
 // centre, such as an omni-directional camera).
 //
 // File format (text, one record a line):
-//   troupe-landmarks 1
+//   troupe-landmarks 2
 //   grid X0 Y0 STEP NX NY HEADINGS     m, m, m, counts; headings 2 pi / HEADINGS apart from 0
-//   codes N C1 ... CN                   landmark codes (wire/landmark_code.h)
+//   landmarks N K1:I1 ... KN:IN         fiducial kind (lower case, as in
+//                                       wire/schemas/fiducial.fbs) and id: "goal:1 post:4"
 //   then NX * NY * HEADINGS lines, heading-major, then row (y), then column
 //   (x): N pairs "X Y" (sensor frame, m), "nan nan" where not seen.
 #pragma once
@@ -28,8 +29,12 @@
 #include <vector>
 
 #include "drivers/common_desktop/particle_filter.h"
+#include "wire/fiducial_key.h"
 
 namespace troupe::desktop {
+
+/// A landmark's identity as a fiducial device reports it.
+using LandmarkKey = wire::FiducialKey;
 
 class LandmarkTable {
  public:
@@ -38,14 +43,14 @@ class LandmarkTable {
   /// Reads a table from text (`name` for messages).
   bool parse(const std::string& text, const std::string& name, std::string& error);
 
-  /// The column of a landmark code, -1 when the table does not know it.
-  int column(int32_t code) const;
+  /// The column of a landmark, -1 when the table does not know it.
+  int column(const LandmarkKey& key) const;
   /// The expected position (sensor frame, m) of column `k` seen from
   /// `pose` (map frame: m, m, rad); false when it is not expected to be
   /// seen, or the pose is off the grid.
   bool expected(const Pose2& pose, int k, double& x, double& y) const;
 
-  size_t landmarks() const { return codes_.size(); }
+  size_t landmarks() const { return keys_.size(); }
   /// The grid's corners, m: the area the table covers.
   double min_x() const { return x0_; }
   double min_y() const { return y0_; }
@@ -56,19 +61,19 @@ class LandmarkTable {
  private:
   /// Sensor-frame position of column k from grid node (ix, iy, ia).
   const float* at(int ix, int iy, int ia, int k) const {
-    return &cells_[((size_t(ia) * size_t(ny_) + size_t(iy)) * size_t(nx_) + size_t(ix)) * codes_.size() * 2 +
+    return &cells_[((size_t(ia) * size_t(ny_) + size_t(iy)) * size_t(nx_) + size_t(ix)) * keys_.size() * 2 +
                    size_t(k) * 2];
   }
 
   double x0_ = 0, y0_ = 0, step_ = 1;
   int nx_ = 0, ny_ = 0, headings_ = 0;
-  std::vector<int32_t> codes_;
+  std::vector<LandmarkKey> keys_;
   std::vector<float> cells_;
 };
 
-/// One landmark observed: its code and its position in the sensor frame, m.
+/// One landmark observed: what it is and its position in the sensor frame, m.
 struct LandmarkObservation {
-  int32_t code = -1;
+  LandmarkKey key;
   double x = 0, y = 0;
 };
 
@@ -89,7 +94,7 @@ class LandmarkLikelihood final : public PoseLikelihood {
   LandmarkLikelihood(const LandmarkTable& table, const LandmarkModelParams& params)
       : table_(table), params_(params) {}
 
-  /// This instant's observations; codes the table does not know are left out.
+  /// This instant's observations; landmarks the table does not know are left out.
   void set(std::span<const LandmarkObservation> observations);
 
   double log_likelihood(const Pose2& pose) const override;

@@ -5,11 +5,13 @@
 
 namespace troupe::desktop {
 
-EvalSummary summarize(const std::vector<ScanError>& scans) {
+EvalSummary summarize(const std::vector<ScanError>& scans, double since_s) {
   EvalSummary s;
   if (scans.empty()) return s;
-  size_t within = 0;
+  size_t within = 0, lost = 0, unaware = 0;
   for (const ScanError& e : scans) {
+    lost += e.lost ? 1 : 0;
+    unaware += !e.lost && e.trans_m > kOffTrackM ? 1 : 0;
     s.mean_m += e.trans_m;
     s.mean_deg += e.angle_rad;
     s.max_m = std::max(s.max_m, e.trans_m);
@@ -23,6 +25,19 @@ EvalSummary summarize(const std::vector<ScanError>& scans) {
   s.max_deg *= 180.0 / kPi;
   s.mean_particles /= n;
   s.within_10cm = double(within) / n;
+  s.said_lost = double(lost) / n;
+  s.unaware_off = double(unaware) / n;
+  // Recovery: from the first scan at or after since_s.
+  size_t from = 0;
+  while (from < scans.size() && scans[from].time_s < since_s) ++from;
+  if (from == scans.size()) return s;
+  s.since_s = scans[from].time_s;
+  for (size_t i = from; i < scans.size() && s.noticed_s < 0; ++i) {
+    if (scans[i].lost) s.noticed_s = scans[i].time_s - s.since_s;
+  }
+  size_t settled = scans.size();
+  while (settled > from && scans[settled - 1].trans_m <= kOffTrackM) --settled;
+  if (settled < scans.size()) s.recovered_s = scans[settled].time_s - s.since_s;
   return s;
 }
 
@@ -53,9 +68,21 @@ bool evaluate_log(const CarmenLog& log, const EvalOptions& opt, EvalResult& out,
   out.scans.clear();
   Pose2 odom;
   bool have_odom = false;
+  // The kidnapping: every odometry pose from the kidnap scan's on is
+  // composed with `jump_frame`, which moves that scan's odometry pose by
+  // kidnap_jump in its own frame; the motion between later poses is kept.
+  bool kidnapped = false;
+  Pose2 jump_frame;
+  double kidnap_time_s = 0;
   for (const ReplaySample& s : timeline.samples) {
+    if (s.kind == ReplaySample::Kind::Scan && s.scan == opt.kidnap_scan && !kidnapped && have_odom) {
+      kidnapped = true;
+      kidnap_time_s = s.time_s;
+      jump_frame = compose(compose(odom, opt.kidnap_jump), relative(odom, Pose2{}));
+      odom = compose(jump_frame, odom);  // this scan's odometry arrived before it
+    }
     if (s.kind == ReplaySample::Kind::Odometry) {
-      odom = s.pose;
+      odom = kidnapped ? compose(jump_frame, s.pose) : s.pose;
       have_odom = true;
       continue;
     }
@@ -67,9 +94,11 @@ bool evaluate_log(const CarmenLog& log, const EvalOptions& opt, EvalResult& out,
     out.filter_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     Pose2 best = filter.best();
     out.scans.push_back({s.time_s, distance(best, l.laser_pose),
-                         std::fabs(wrap_angle(best.a - l.laser_pose.a)), filter.particles().size()});
+                         std::fabs(wrap_angle(best.a - l.laser_pose.a)), filter.particles().size(),
+                         filter.lost()});
   }
-  out.summary = summarize(out.scans);
+  out.kidnap_time_s = kidnap_time_s;
+  out.summary = summarize(out.scans, kidnapped ? kidnap_time_s : 0.0);
   return true;
 }
 

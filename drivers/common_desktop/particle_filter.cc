@@ -61,6 +61,7 @@ void ParticleFilter::init_global(Rng& rng) {
   double w = 1.0 / double(particles_.size());
   for (Particle& p : particles_) p = {random_free_pose(rng), w};
   w_slow_ = w_fast_ = 0;
+  lost_ = false;
   force_update_ = true;
   since_resample_ = 0;
   cluster();
@@ -79,6 +80,7 @@ void ParticleFilter::init_pose(const Pose2& mean, const Eigen::Matrix3d& cov, Rn
     p = {{mean.x + d.x(), mean.y + d.y(), wrap_angle(mean.a + d.z())}, w};
   }
   w_slow_ = w_fast_ = 0;
+  lost_ = false;
   force_update_ = true;
   since_resample_ = 0;
   cluster();
@@ -126,35 +128,35 @@ double ParticleFilter::log_likelihood(const Pose2& pose, const ScanView& scan) c
   return lw;
 }
 
-double ParticleFilter::weigh(const ScanView& scan) {
-  select_beams(scan);
-  if (beams_.empty()) return 0;
-  // log(w_prev * L), then normalise with the maximum subtracted: the raw
-  // product of 60 densities under- or overflows a double.
-  // The hot loop: each particle's pose is taken into the grid's frame in
-  // cell units once, so a beam costs two multiply-adds, a floor and a load.
-  double top = -std::numeric_limits<double>::infinity();
+double ParticleFilter::beams_log_likelihood(const Pose2& pose) const {
+  // The hot loop: the pose is taken into the grid's frame in cell units
+  // once, so a beam costs two multiply-adds, a floor and a load.
   const double inv_res = 1.0 / map_->resolution();
-  const Pose2& origin = map_->origin();
+  Pose2 q = relative(map_->origin(), pose);
+  double qx = q.x * inv_res, qy = q.y * inv_res;
+  if (!(std::fabs(qx) < 1e12 && std::fabs(qy) < 1e12)) {  // far off the map: no lookups to overflow
+    return double(field_.log_likelihood_far()) * double(beams_.size());
+  }
   // floor() without the libm call (x86-64 has no inline floor before SSE4.1).
   auto cell = [](double g) {
     int64_t i = int64_t(g);
     return i - int64_t(g < double(i));
   };
+  double c = std::cos(q.a) * inv_res, s = std::sin(q.a) * inv_res, lw = 0;
+  for (const Beam& b : beams_) {
+    lw += field_.cell_log_likelihood(cell(qx + c * b.x - s * b.y), cell(qy + s * b.x + c * b.y));
+  }
+  return lw;
+}
+
+double ParticleFilter::weigh(const ScanView& scan) {
+  select_beams(scan);
+  if (beams_.empty()) return 0;
+  // log(w_prev * L), then normalise with the maximum subtracted: the raw
+  // product of 60 densities under- or overflows a double.
+  double top = -std::numeric_limits<double>::infinity();
   for (Particle& p : particles_) {
-    Pose2 q = between(origin, p.pose);
-    double qx = q.x * inv_res, qy = q.y * inv_res;
-    if (!(std::fabs(qx) < 1e12 && std::fabs(qy) < 1e12)) {  // far off the map: no lookups to overflow
-      p.weight = params_.beam_exponent * double(field_.log_likelihood_far()) * double(beams_.size()) +
-                 std::log(std::max(p.weight, 1e-300));
-      top = std::max(top, p.weight);
-      continue;
-    }
-    double c = std::cos(q.a) * inv_res, s = std::sin(q.a) * inv_res, lw = 0;
-    for (const Beam& b : beams_) {
-      lw += field_.cell_log_likelihood(cell(qx + c * b.x - s * b.y), cell(qy + s * b.x + c * b.y));
-    }
-    p.weight = params_.beam_exponent * lw + std::log(std::max(p.weight, 1e-300));
+    p.weight = params_.beam_exponent * beams_log_likelihood(p.pose) + std::log(std::max(p.weight, 1e-300));
     top = std::max(top, p.weight);
   }
   double sum = 0;
@@ -178,23 +180,50 @@ bool ParticleFilter::begin_update(const Pose2& odom, Rng& rng) {
   return true;
 }
 
-bool ParticleFilter::finish_update(double w_avg, Rng& rng) {
+template <typename Score>
+bool ParticleFilter::finish_update(double w_avg, const Score& score, Rng& rng) {
   force_update_ = false;
   moved_since_update_ = {};
   ++updates_;
   if (w_slow_ == 0) {
     w_slow_ = w_fast_ = w_avg;
   } else {
-    w_slow_ += params_.alpha_slow * (w_avg - w_slow_);
     w_fast_ += params_.alpha_fast * (w_avg - w_fast_);
+    // While lost the long-term average holds still: learning the lost
+    // level would make a filter that stays lost stop noticing it.
+    if (!lost_) w_slow_ += params_.alpha_slow * (w_avg - w_slow_);
   }
+  lost_ = params_.alpha_slow > 0 && w_slow_ > 0 && w_fast_ < params_.lost_ratio * w_slow_;
   // Clusters from the weighted set: resampling only adds noise to the mean.
   cluster();
-  if (++since_resample_ >= std::max<size_t>(1, params_.resample_interval)) {
+  candidates_.clear();
+  if (++since_resample_ >= std::max<size_t>(1, params_.resample_interval) || lost_) {
     since_resample_ = 0;
+    if (lost_) draw_candidates(score, rng);
     resample(rng);
   }
   return true;
+}
+
+// Not inlined: the cold path of a lost filter stays out of the update's hot
+// code (and shows up by name in a profile).
+template <typename Score>
+[[gnu::noinline]] void ParticleFilter::draw_candidates(const Score& score, Rng& rng) {
+  const size_t n = params_.recovery_candidates;
+  if (n == 0) return;  // resample() draws uniform poses itself
+  drawn_.resize(n);
+  scored_.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    drawn_[i] = random_free_pose(rng);
+    scored_[i] = {score(drawn_[i]), uint32_t(i)};
+  }
+  const size_t keep = std::clamp<size_t>(params_.recovery_keep, 1, n);
+  // Best first; ties (equal scores) broken by draw order for determinism.
+  std::partial_sort(scored_.begin(), scored_.begin() + long(keep), scored_.end(),
+                    [](const auto& a, const auto& b) {
+                      return a.first > b.first || (a.first == b.first && a.second < b.second);
+                    });
+  for (size_t i = 0; i < keep; ++i) candidates_.push_back(drawn_[scored_[i].second]);
 }
 
 bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
@@ -204,7 +233,8 @@ bool ParticleFilter::update(const Pose2& odom, const ScanView& scan, Rng& rng) {
     cluster();
     return false;
   }
-  return finish_update(w_avg, rng);
+  return finish_update(
+      w_avg, [this](const Pose2& p) { return beams_log_likelihood(p); }, rng);
 }
 
 bool ParticleFilter::update(const Pose2& odom, const PoseLikelihood& measurement, Rng& rng) {
@@ -223,14 +253,17 @@ bool ParticleFilter::update(const Pose2& odom, const PoseLikelihood& measurement
   double sum = 0;
   for (Particle& p : particles_) sum += (p.weight = std::exp(p.weight - top));
   for (Particle& p : particles_) p.weight /= sum;
-  return finish_update(std::exp((top + std::log(sum)) / double(terms)), rng);
+  return finish_update(
+      std::exp((top + std::log(sum)) / double(terms)),
+      [&measurement](const Pose2& p) { return measurement.log_likelihood(p); }, rng);
 }
 
 void ParticleFilter::resample(Rng& rng) {
   cumulative_.resize(particles_.size());
   double acc = 0;
   for (size_t i = 0; i < particles_.size(); ++i) cumulative_[i] = (acc += particles_[i].weight);
-  double p_random = params_.alpha_slow > 0 && w_slow_ > 0 ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  // Injected only while lost: tracking keeps every particle for the belief.
+  double p_random = lost_ ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
   double offset = uniform01(rng);
   PoseBins bins(params_.bin_xy, params_.bin_a);
   bins_.clear();
@@ -240,7 +273,7 @@ void ParticleFilter::resample(Rng& rng) {
   while (scratch_.size() < params_.max_particles) {
     Pose2 pose;
     if (p_random > 0 && uniform01(rng) < p_random) {
-      pose = random_free_pose(rng);
+      pose = candidates_.empty() ? random_free_pose(rng) : candidates_[randoms % candidates_.size()];
       ++randoms;
     } else {
       double u = van_der_corput(j++) + offset;

@@ -34,7 +34,7 @@ Timeline build_timeline(const CarmenLog& log, const TimelineOptions& opt, Rng& r
         if (opt.odometry == OdometrySource::Corrected) {
           ReplaySample s{ReplaySample::Kind::Odometry, t, synth.next(l.laser_pose, rng), 0, 0, 0};
           if (have_truth && t > last_truth_t) {
-            Pose2 d = between(last_truth, l.laser_pose);
+            Pose2 d = relative(last_truth, l.laser_pose);
             s.tv = std::copysign(std::hypot(d.x, d.y), d.x) / (t - last_truth_t);
             s.rv = d.a / (t - last_truth_t);
           }

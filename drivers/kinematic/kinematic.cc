@@ -4,13 +4,12 @@
 #include <cmath>
 
 #include "runtime/node.h"
+#include "wire/geometry.h"
 
 namespace troupe::drivers::kinematic {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
-
-float wrap_angle(float a) { return std::remainder(a, 2 * kPi); }
+float wrap_angle(float a) { return float(geometry::wrap_angle(a)); }
 
 float approach(float current, float target, float max_change) {
   return current + std::clamp(target - current, -max_change, max_change);

@@ -17,6 +17,31 @@ wire::Cov2d to_wire(const Eigen::Matrix3d& c) {
                      float(c(2, 2)));
 }
 
+// A restarted odometry source starts again from its origin; no wheel
+// reports a pose within this of it while driving through (m, rad).
+constexpr double kOriginM = 1e-3, kOriginRad = 1e-3;
+// Odometry never moves by less than this between samples, however close in
+// time they are (timestamp jitter), m and rad.
+constexpr double kJitterM = 0.05, kJitterRad = 0.05;
+// A silence counts as at most this much driving time: the speed bounds
+// alone would pass any jump after a long enough gap, s.
+constexpr double kMaxCreditedGapS = 1.0;
+
+// Why `to`, `dt_s` after `from`, cannot be motion of the same odometry
+// (nullptr: it can): the robot's node restarted while the clock ran on.
+// Speed bounds <= 0 are not checked.
+const char* odometry_break(const desktop::Pose2& from, const desktop::Pose2& to, double dt_s,
+                           double max_speed, double max_turn_rate) {
+  const double dt = std::min(dt_s, kMaxCreditedGapS);
+  const double moved = desktop::distance(from, to), turned = std::fabs(desktop::wrap_angle(to.a - from.a));
+  const bool at_origin = std::hypot(to.x, to.y) < kOriginM && std::fabs(to.a) < kOriginRad;
+  if (at_origin && (moved >= kJitterM || turned >= kJitterRad)) return "jumped back to its origin";
+  if (max_speed > 0 && moved > max_speed * dt + kJitterM) return "moved faster than odom_max_speed";
+  if (max_turn_rate > 0 && turned > max_turn_rate * dt + kJitterRad)
+    return "turned faster than odom_max_turn_rate";
+  return nullptr;
+}
+
 Eigen::Matrix3d from_wire(const wire::Cov2d& c) {
   Eigen::Matrix3d m;
   m << c.xx(), c.xy(), c.xa(), c.xy(), c.yy(), c.ya(), c.xa(), c.ya(), c.aa();
@@ -90,6 +115,11 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
   p.resample_interval = opt->resample_interval();
   p.global_particles = opt->global_particles();
   p.beam_exponent = opt->beam_exponent();
+  p.lost_ratio = opt->lost_ratio();
+  p.recovery_candidates = opt->recovery_candidates();
+  p.recovery_keep = opt->recovery_keep();
+  odom_max_speed_ = opt->odom_max_speed();
+  odom_max_turn_rate_ = opt->odom_max_turn_rate();
   if (p.min_particles == 0 || p.min_particles > p.max_particles || p.max_particles > 1'000'000) {
     error = "need 0 < min_particles <= max_particles <= 1000000";
     return false;
@@ -113,6 +143,14 @@ bool Mcl::setup(Node& node, const DriverSetup& setup, std::string& error) {
   }
   if (p.max_beams == 0 || p.alpha_slow < 0 || p.alpha_fast < p.alpha_slow || p.alpha_fast > 1) {
     error = "need max_beams > 0 and 0 <= alpha_slow <= alpha_fast <= 1";
+    return false;
+  }
+  if (!(p.lost_ratio > 0 && p.lost_ratio < 1) || p.recovery_candidates > 10'000'000 || p.recovery_keep == 0) {
+    error = "need lost_ratio in (0, 1), recovery_candidates <= 10000000 and recovery_keep > 0";
+    return false;
+  }
+  if (!(odom_max_speed_ >= 0) || !(odom_max_turn_rate_ >= 0)) {
+    error = "odom_max_speed and odom_max_turn_rate must be >= 0 (0: not checked)";
     return false;
   }
   if (!(opt->odom_wait() >= 0 && opt->odom_wait() <= 10)) {
@@ -240,12 +278,22 @@ void Mcl::on_odometry(const wire::Message& data) {
   desktop::Pose2 pose{s->pose()->x(), s->pose()->y(), s->pose()->a()};
   if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.a)) return;
   uint64_t t = wire::time_us(*data.header());
-  if (odom_count_ > 0 && t < odom_[(odom_head_ + kOdomHistory - 1) % kOdomHistory].time_us) {
-    // The source restarted (its clock went back): older samples no longer
-    // belong, and its poses start from a new origin.
-    odom_count_ = 0;
-    if (filter_) filter_->reset_odometry();
-    log_info("%s: odometry restarted; continuing from the current belief", name_.c_str());
+  if (odom_count_ > 0) {
+    const OdomSample& last = odom_[(odom_head_ + kOdomHistory - 1) % kOdomHistory];
+    // The source restarted when its clock went back (a simulator), or when
+    // its pose jumped while the clock ran on (a robot's node rebooted):
+    // older samples no longer belong, and its poses start from a new origin.
+    const char* why = t < last.time_us ? "its clock went back"
+                                       : odometry_break(last.pose, pose, double(t - last.time_us) * 1e-6,
+                                                        odom_max_speed_, odom_max_turn_rate_);
+    if (why != nullptr) {
+      odom_count_ = 0;
+      if (filter_) {
+        filter_->predict(last.pose, rng_);  // the motion up to the restart still counts
+        filter_->reset_odometry();
+      }
+      log_info("%s: odometry restarted (%s); continuing from the current belief", name_.c_str(), why);
+    }
   }
   odom_[odom_head_] = {t, pose};
   odom_head_ = (odom_head_ + 1) % kOdomHistory;
@@ -302,8 +350,11 @@ void Mcl::on_landmarks(const wire::Message& data) {
   const wire::FiducialList* list = data.body_as_FiducialList();
   if (list == nullptr) return;
   seen_.clear();
-  if (list->fiducials()) {
-    for (const wire::Fiducial* f : *list->fiducials()) seen_.push_back({f->id(), f->x(), f->y()});
+  const auto* kinds = list->kinds();
+  for (flatbuffers::uoffset_t i = 0; list->fiducials() && i < list->fiducials()->size(); ++i) {
+    const wire::Fiducial* f = list->fiducials()->Get(i);
+    const auto kind = kinds && i < kinds->size() ? wire::FiducialKind(kinds->Get(i)) : wire::FiducialKind::Generic;
+    seen_.push_back({{kind, f->id()}, f->x(), f->y()});
   }
   pending_landmarks_ = true;
   measured(wire::time_us(*data.header()));
@@ -346,6 +397,15 @@ void Mcl::process_pending_scan(bool force) {
 void Mcl::publish(uint64_t time_us) {
   const auto& hyps = filter_->hypotheses();
   if (hyps.empty()) return;
+  if (filter_->lost() != said_lost_) {
+    said_lost_ = filter_->lost();
+    if (said_lost_) {
+      log_warn("%s: lost (the scans fit the belief far worse than before); searching", name_.c_str());
+    } else {
+      log_info("%s: localized again at (%.2f, %.2f, %.2f)", name_.c_str(), hyps.front().mean.x,
+               hyps.front().mean.y, hyps.front().mean.a);
+    }
+  }
   {
     auto& b = node_->begin();
     hyp_out_.clear();
@@ -354,7 +414,7 @@ void Mcl::publish(uint64_t time_us) {
       hyp_out_.emplace_back(mean, to_wire(h.cov), float(h.weight));
     }
     auto vec = b.CreateVectorOfStructs(hyp_out_);
-    auto body = wire::CreateLocalizeState(b, vec, 0, time_us);
+    auto body = wire::CreateLocalizeState(b, vec, 0, time_us, filter_->lost());
     node_->publish(localize_, uint8_t(wire::LocalizeDataSub::Hypotheses), wire::Body::LocalizeState,
                    body.Union(), time_us);
   }

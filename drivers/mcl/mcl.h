@@ -13,7 +13,9 @@
 //
 // Odometry and scans are paired by timestamp: the odometry pose at a scan's
 // time is interpolated from the odometry around it. A scan newer than every
-// odometry sample waits up to odom_wait for odometry to pass it.
+// odometry sample waits up to odom_wait for odometry to pass it. Odometry
+// whose clock goes back, or whose pose jumps back to its origin or faster
+// than the robot can move, restarted: the jump is not taken as motion.
 #pragma once
 
 #include <memory>
@@ -69,6 +71,8 @@ class Mcl : public Driver {
   TimerId fetch_timer_ = 0;
   TimerId wait_timer_ = 0;
   uint64_t odom_wait_us_ = 0;
+  double odom_max_speed_ = 0, odom_max_turn_rate_ = 0;  // m/s, rad/s
+  bool said_lost_ = false;                              // the lost state last logged
   // Newest odometry first-in-first-out, enough for a few seconds.
   static constexpr size_t kOdomHistory = 256;
   std::vector<OdomSample> odom_;

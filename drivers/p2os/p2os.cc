@@ -10,8 +10,6 @@
 namespace troupe::drivers::p2os {
 namespace {
 
-// The state machine's clock: timeouts are checked this often, us.
-constexpr uint64_t kTickUs = 50'000;
 // After CLOSE for a confused handshake, packets still in flight are let go
 // by for this long before SYNC0 starts again, us.
 constexpr uint64_t kSettleUs = 150'000;
@@ -35,7 +33,7 @@ const char* state_name(P2os::State s) {
 
 }  // namespace
 
-P2os::P2os() : link_(*this), odometry_(*find_robot("p3dx-sh")) {}
+P2os::P2os() : session_(*this), odometry_(*find_robot("p3dx-sh")) {}
 
 bool P2os::setup(Node& node, const DriverSetup& setup, std::string& error) {
   name_ = setup.name;
@@ -62,7 +60,6 @@ bool P2os::setup(Node& node, const DriverSetup& setup, std::string& error) {
     error = "option \"port\" is missing: the serial device the robot is on, e.g. \"/dev/ttyS0\"";
     return false;
   }
-  port_ = opt->port()->str();
   if (opt->baud() != 0) {
     if (!serial::is_supported_baud(opt->baud())) {
       error = "option \"baud\": " + std::to_string(opt->baud()) +
@@ -90,10 +87,6 @@ bool P2os::setup(Node& node, const DriverSetup& setup, std::string& error) {
     error = "options \"sync_timeout_ms\" and \"sync_attempts\" must be > 0 and \"sip_timeout_ms\" >= 200";
     return false;
   }
-  if (opt->reopen_min_ms() == 0 || opt->reopen_max_ms() < opt->reopen_min_ms()) {
-    error = "options \"reopen_min_ms\" must be > 0 and \"reopen_max_ms\" at least as large";
-    return false;
-  }
   if (opt->max_speed() < 0 || opt->max_turn_rate() < 0) {
     error = "options \"max_speed\" and \"max_turn_rate\" must be >= 0";
     return false;
@@ -108,56 +101,30 @@ bool P2os::setup(Node& node, const DriverSetup& setup, std::string& error) {
   sync_timeout_us_ = opt->sync_timeout_ms() * 1000ull;
   sync_attempts_ = opt->sync_attempts();
   sip_timeout_us_ = opt->sip_timeout_ms() * 1000ull;
-  reopen_min_us_ = opt->reopen_min_ms() * 1000ull;
-  reopen_max_us_ = opt->reopen_max_ms() * 1000ull;
-  backoff_us_ = reopen_min_us_;
 
-  link_.attach(node.loop());
-  tick_ = node.loop().start_timer(kTickUs, kTickUs, this);
-  if (tick_ == 0) {
-    error = "no timer left";
-    return false;
-  }
   // A robot that is not there yet is no reason to refuse to start: the
-  // node serves its other devices and keeps trying this port.
-  try_open();
-  return true;
+  // node serves its other devices and the session keeps trying the port.
+  serial::SerialSession::Options so;
+  so.name = name_;
+  so.port = opt->port()->str();
+  so.bauds = {bauds_, baud_count_};
+  so.reopen_min_us = opt->reopen_min_ms() * 1000ull;
+  so.reopen_max_us = opt->reopen_max_ms() * 1000ull;
+  return session_.start(node.loop(), so, error);
 }
 
 void P2os::send(const Packet& packet) {
-  if (!link_.send(packet.view())) log_debug("%s: output queue full; a packet was dropped", name_.c_str());
+  session_.send(packet.view());
 }
 
-void P2os::try_open() {
-  std::string error;
-  if (!link_.open(port_, bauds_[0], error)) {
-    uint64_t now = node_->loop().now_us();
-    reopen_at_us_ = now + backoff_us_;
-    // The first failure is worth a warning; repeats of the same only at
-    // debug level, or a missing robot fills the log.
-    if (!open_failed_logged_) {
-      log_warn("%s: %s; trying again every %u ms or less", name_.c_str(), error.c_str(),
-               unsigned(reopen_max_us_ / 1000));
-      open_failed_logged_ = true;
-    } else {
-      log_debug("%s: %s", name_.c_str(), error.c_str());
-    }
-    backoff_us_ = std::min(backoff_us_ * 2, reopen_max_us_);
-    state_ = State::Closed;
-    return report_down();
-  }
-  log_info("%s: opened %s; looking for a robot", name_.c_str(), port_.c_str());
-  open_failed_logged_ = false;
+void P2os::on_session_open() {
+  log_info("%s: looking for a robot on %s", name_.c_str(), session_.port().c_str());
   start_baud(0);
 }
 
 void P2os::start_baud(size_t index) {
   baud_index_ = index;
-  std::string error;
-  if (link_.baud() != bauds_[index] && !link_.set_baud(bauds_[index], error)) {
-    return lose(error, backoff_us_);
-  }
-  link_.discard_input();
+  if (!session_.probe_baud(index)) return;
   scanner_.reset();
   attempts_ = 0;
   settling_ = false;
@@ -171,13 +138,13 @@ void P2os::send_sync() {
               : state_ == State::Sync1 ? Command::Sync1
                                        : Command::Sync2;
   send(command(c));
-  deadline_us_ = node_->loop().now_us() + sync_timeout_us_;
+  session_.arm(sync_timeout_us_);
 }
 
 void P2os::on_sync_timeout() {
   if (settling_) {
     // In-flight packets have had their time: start over cleanly.
-    link_.discard_input();
+    session_.link().discard_input();
     scanner_.reset();
     settling_ = false;
     attempts_ = 0;
@@ -186,13 +153,11 @@ void P2os::on_sync_timeout() {
   }
   if (state_ != State::Sync0) return confused("no reply to a SYNC packet");
   if (attempts_ < sync_attempts_) return send_sync();
-  if (baud_index_ + 1 < baud_count_) {
-    log_debug("%s: no answer at %u baud", name_.c_str(), unsigned(bauds_[baud_index_]));
+  if (baud_index_ + 1 < session_.bauds().size()) {
+    log_debug("%s: no answer at %u baud", name_.c_str(), unsigned(session_.bauds()[baud_index_]));
     return start_baud(baud_index_ + 1);
   }
-  std::string tried;
-  for (size_t i = 0; i < baud_count_; ++i) tried += (i ? ", " : "") + std::to_string(bauds_[i]);
-  lose("no robot answers on " + port_ + " at " + tried + " baud", backoff_us_);
+  session_.lose("no robot answers on " + session_.port() + " at " + session_.bauds_text() + " baud");
 }
 
 void P2os::confused(const char* what) {
@@ -202,10 +167,10 @@ void P2os::confused(const char* what) {
   send(command(Command::Close));
   settling_ = true;
   state_ = State::Sync0;
-  deadline_us_ = node_->loop().now_us() + kSettleUs;
+  session_.arm(kSettleUs);
 }
 
-void P2os::on_serial_bytes(std::span<const uint8_t> bytes) {
+void P2os::on_session_bytes(std::span<const uint8_t> bytes) {
   scan_packets(scanner_, bytes, [this](std::span<const uint8_t> payload) { handle_packet(payload); });
 }
 
@@ -248,24 +213,24 @@ void P2os::identify(std::span<const uint8_t> payload) {
     log_error(
         "%s: robot '%s' on %s is a %s/%s, whose parameters are unknown (known: %s); set the \"model\" "
         "option to drive it",
-        name_.c_str(), id.name, port_.c_str(), id.robot_class, id.subclass, known_robots().c_str());
+        name_.c_str(), id.name, session_.port().c_str(), id.robot_class, id.subclass, known_robots().c_str());
     send(command(Command::Close));
-    return lose("unknown robot model", reopen_max_us_);
+    return session_.lose("unknown robot model", session_.reopen_max_us());
   }
   if (robot_ != params) {
     robot_ = params;
     odometry_.set_params(*params);
   }
   log_info("%s: connected to %s (%s %s) on %s at %u baud", name_.c_str(), id.name, id.robot_class,
-           id.subclass, port_.c_str(), unsigned(bauds_[baud_index_]));
+           id.subclass, session_.port().c_str(), unsigned(session_.baud()));
   enter_running();
 }
 
 void P2os::enter_running() {
   // The baud that worked is tried first next time.
-  std::rotate(bauds_, bauds_ + baud_index_, bauds_ + baud_index_ + 1);
+  session_.prefer(baud_index_);
   baud_index_ = 0;
-  backoff_us_ = reopen_min_us_;
+  session_.connected();
   max_speed_ = max_speed_opt_ > 0 ? std::min(max_speed_opt_, robot_->max_speed) : robot_->max_speed;
   max_turn_ = max_turn_opt_ > 0 ? std::min(max_turn_opt_, robot_->max_turn_rate) : robot_->max_turn_rate;
   send(command(Command::Open));
@@ -286,15 +251,10 @@ void P2os::enter_running() {
   }
 }
 
-void P2os::lose(const std::string& why, uint64_t delay_us) {
-  link_.close();
+void P2os::on_session_down() {
   state_ = State::Closed;
   connected_ = false;
   settling_ = false;
-  reopen_at_us_ = node_->loop().now_us() + delay_us;
-  backoff_us_ = std::min(std::max(delay_us, reopen_min_us_) * 2, reopen_max_us_);
-  log_warn("%s: %s; reopening %s in %u ms", name_.c_str(), why.c_str(), port_.c_str(),
-           unsigned(delay_us / 1000));
   report_down();
 }
 
@@ -305,21 +265,14 @@ void P2os::report_down() {
   publish_position();
 }
 
-void P2os::on_serial_lost(const std::string& why) {
-  lose(port_ + ": " + why, backoff_us_);
-}
-
-void P2os::on_timer(TimerId id) {
-  if (id != tick_) return;
-  uint64_t now = node_->loop().now_us();
+void P2os::on_session_tick(uint64_t now) {
   switch (state_) {
     case State::Closed:
-      if (now >= reopen_at_us_) try_open();
       return;
     case State::Sync0:
     case State::Sync1:
     case State::Sync2:
-      if (now >= deadline_us_) on_sync_timeout();
+      if (session_.expired()) on_sync_timeout();
       return;
     case State::Running:
       if (now - last_sip_us_ > sip_timeout_us_) {
@@ -342,8 +295,6 @@ void P2os::on_timer(TimerId id) {
 }
 
 void P2os::shutdown() {
-  if (tick_ != 0) node_->loop().cancel_timer(tick_);
-  tick_ = 0;
   if (state_ == State::Running) {
     // Stop and end the session; the robot's watchdog is the backstop
     // should these bytes not reach it.
@@ -351,7 +302,7 @@ void P2os::shutdown() {
     send(command_int(Command::Enable, 0));
     send(command(Command::Close));
   }
-  link_.close();
+  session_.stop();
   state_ = State::Closed;
 }
 

@@ -26,12 +26,12 @@
 #include "drivers/p2os/p2os_odometry.h"
 #include "drivers/p2os/p2os_protocol.h"
 #include "drivers/p2os/p2os_robot.h"
-#include "drivers/serial_port/serial_link.h"
+#include "drivers/serial_port/serial_session.h"
 #include "runtime/driver.h"
 
 namespace troupe::drivers::p2os {
 
-class P2os final : public Driver, private serial::SerialLink::Listener {
+class P2os final : public Driver, private serial::SerialSession::Listener {
  public:
   enum class State : uint8_t { Closed, Sync0, Sync1, Sync2, Running };
 
@@ -39,22 +39,21 @@ class P2os final : public Driver, private serial::SerialLink::Listener {
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_command(DeviceId device, const wire::Message& command) override;
   void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
-  void on_timer(TimerId id) override;
   void shutdown() override;
 
  private:
   // Connection (p2os.cc)
-  void on_serial_bytes(std::span<const uint8_t> bytes) override;
-  void on_serial_lost(const std::string& why) override;
+  void on_session_open() override;
+  void on_session_bytes(std::span<const uint8_t> bytes) override;
+  void on_session_tick(uint64_t now_us) override;
+  void on_session_down() override;
   void handle_packet(std::span<const uint8_t> payload);
-  void try_open();
   void start_baud(size_t index);
   void send_sync();
   void on_sync_timeout();
   void confused(const char* what);
   void identify(std::span<const uint8_t> payload);
   void enter_running();
-  void lose(const std::string& why, uint64_t delay_us);
   void report_down();
   void send(const Packet& packet);
 
@@ -69,34 +68,27 @@ class P2os final : public Driver, private serial::SerialLink::Listener {
   void request_position(const wire::Message& request, RequestToken token);
   void request_ranger(const wire::Message& request, RequestToken token);
 
-  serial::SerialLink link_;
+  serial::SerialSession session_;
   PacketScanner scanner_;
   std::string name_ = "p2os";
-  std::string port_;
 
   // Devices provided (kNoDevice when not).
   DeviceId position_ = kNoDevice, ranger_ = kNoDevice, power_ = kNoDevice, bumper_ = kNoDevice;
 
   // Options.
-  uint32_t bauds_[5] = {};
+  uint32_t bauds_[5] = {};  // to probe, bit/s
   size_t baud_count_ = 0;
   const RobotParams* forced_model_ = nullptr;
   bool sonar_on_ = true, motors_on_ = true, use_vel2_ = true;
   float max_speed_opt_ = 0, max_turn_opt_ = 0;
   uint64_t pulse_us_ = 0, command_timeout_us_ = 0, sync_timeout_us_ = 0, sip_timeout_us_ = 0;
   uint32_t sync_attempts_ = 0;
-  uint64_t reopen_min_us_ = 0, reopen_max_us_ = 0;
 
   // State machine.
   State state_ = State::Closed;
   size_t baud_index_ = 0;
   uint32_t attempts_ = 0;
   bool settling_ = false;  // CLOSE sent after confusion; packets ignored until the deadline
-  uint64_t deadline_us_ = 0;
-  uint64_t reopen_at_us_ = 0;
-  uint64_t backoff_us_ = 0;
-  bool open_failed_logged_ = false;
-  TimerId tick_ = 0;
 
   // The robot.
   const RobotParams* robot_ = nullptr;

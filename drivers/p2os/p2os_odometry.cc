@@ -6,22 +6,13 @@
 namespace troupe::drivers::p2os {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr uint32_t kPositionModulus = 0x8000;  // 15-bit counters
 
-double wrap_angle(double a) {
-  return std::remainder(a, 2 * kPi);
-}
-
-// a composed with b: b expressed in a's frame.
-Pose compose(const Pose& a, const Pose& b) {
-  double c = std::cos(a.a), s = std::sin(a.a);
-  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrap_angle(a.a + b.a)};
-}
+using geometry::compose;
+using geometry::wrap_angle;
 
 Pose inverse(const Pose& p) {
-  double c = std::cos(p.a), s = std::sin(p.a);
-  return {-c * p.x - s * p.y, s * p.x - c * p.y, wrap_angle(-p.a)};
+  return geometry::relative(p, {});
 }
 
 // A 15-bit counter read as a signed offset from zero.

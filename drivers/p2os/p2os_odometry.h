@@ -18,13 +18,12 @@
 
 #include "drivers/p2os/p2os_protocol.h"
 #include "drivers/p2os/p2os_robot.h"
+#include "wire/geometry.h"
 
 namespace troupe::drivers::p2os {
 
 /// A planar pose: m, m, rad.
-struct Pose {
-  double x = 0, y = 0, a = 0;
-};
+using Pose = geometry::Pose2;
 
 /// Shortest signed difference `to - from` on a circle of `modulus` counts.
 int wrap_delta(uint32_t from, uint32_t to, uint32_t modulus);

@@ -24,6 +24,57 @@ constexpr size_t kIoBytes = 5;     // timer u16, analog, digital in, digital out
 
 }  // namespace
 
+const char* command_name(uint8_t command) {
+  switch (Command(command)) {
+    case Command::Pulse: return "PULSE";
+    case Command::Open: return "OPEN";
+    case Command::Close: return "CLOSE";
+    case Command::Polling: return "POLLING";
+    case Command::Enable: return "ENABLE";
+    case Command::SetA: return "SETA";
+    case Command::SetV: return "SETV";
+    case Command::SetO: return "SETO";
+    case Command::Move: return "MOVE";
+    case Command::Rotate: return "ROTATE";
+    case Command::SetRv: return "SETRV";
+    case Command::Vel: return "VEL";
+    case Command::Head: return "HEAD";
+    case Command::DHead: return "DHEAD";
+    case Command::Say: return "SAY";
+    case Command::JoyInfo: return "JOYINFO";
+    case Command::Config: return "CONFIG";
+    case Command::Encoder: return "ENCODER";
+    case Command::SetRvDir: return "SETRVDIR";
+    case Command::RVel: return "RVEL";
+    case Command::DcHead: return "DCHEAD";
+    case Command::SetRA: return "SETRA";
+    case Command::Sonar: return "SONAR";
+    case Command::Stop: return "STOP";
+    case Command::DigOut: return "DIGOUT";
+    case Command::Vel2: return "VEL2";
+    case Command::Gripper: return "GRIPPER";
+    case Command::AdSel: return "ADSEL";
+    case Command::GripperVal: return "GRIPPERVAL";
+    case Command::GripRequest: return "GRIPREQUEST";
+    case Command::IoRequest: return "IOREQUEST";
+    case Command::PtuPos: return "PTUPOS";
+    case Command::Tty2: return "TTY2";
+    case Command::GetAux: return "GETAUX";
+    case Command::BumpStall: return "BUMPSTALL";
+    case Command::Tcm2: return "TCM2";
+    case Command::JoyDrive: return "JOYDRIVE";
+    case Command::MovingBlink: return "MOVINGBLINK";
+    case Command::HostBaud: return "HOSTBAUD";
+    case Command::Aux1Baud: return "AUX1BAUD";
+    case Command::Aux2Baud: return "AUX2BAUD";
+    case Command::EStop: return "ESTOP";
+    case Command::EStall: return "ESTALL";
+    case Command::Gyro: return "GYRO";
+    case Command::BatteryInfo: return "BATTERYINFO";
+  }
+  return "unknown";
+}
+
 uint16_t checksum(std::span<const uint8_t> payload) {
   uint32_t sum = 0;
   size_t i = 0;

@@ -19,8 +19,9 @@ inline constexpr size_t kMaxPacketBytes = 200;
 /// Largest payload: the packet less header (2), count (1) and checksum (2).
 inline constexpr size_t kMaxPayloadBytes = kMaxPacketBytes - 5;
 
-/// Client-to-robot command numbers. The three SYNC numbers are reused once a
-/// session is open (0 is PULSE, 1 OPEN, 2 CLOSE).
+/// Client-to-robot command numbers (the P2OS/AROS manual's, as ARIA names
+/// them). The three SYNC numbers are reused once a session is open (0 is
+/// PULSE, 1 OPEN, 2 CLOSE).
 enum class Command : uint8_t {
   Sync0 = 0,
   Sync1 = 1,
@@ -28,19 +29,52 @@ enum class Command : uint8_t {
   Pulse = 0,
   Open = 1,
   Close = 2,
+  Polling = 3,  // string: sonar firing order, transducer numbers from 1
   Enable = 4,
-  SetA = 5,
-  SetV = 6,
-  SetO = 7,
-  Vel = 11,
-  RVel = 21,
-  SetRA = 23,
+  SetA = 5,   // mm/s^2: positive sets the acceleration, negative the deceleration
+  SetV = 6,   // mm/s: top speed of MOVE and VEL
+  SetO = 7,   // reset odometry
+  Move = 8,   // mm: drive this far and stop
+  Rotate = 9, // deg/s, as RVEL
+  SetRv = 10, // deg/s: top turn rate of heading moves and RVEL
+  Vel = 11,   // mm/s
+  Head = 12,  // deg: turn to this odometric heading
+  DHead = 13, // deg: turn this far from the current heading
+  Say = 15,
+  JoyInfo = 17,
+  Config = 18,  // ask for the configuration packet (0x20)
+  Encoder = 19,
+  SetRvDir = 20,
+  RVel = 21,    // deg/s
+  DcHead = 22,  // deg: move the heading setpoint this far
+  SetRA = 23,   // deg/s^2: positive acceleration, negative deceleration
   Sonar = 28,
   Stop = 29,
+  DigOut = 30,
   Vel2 = 32,
+  Gripper = 33,
+  AdSel = 35,
+  GripperVal = 36,
+  GripRequest = 37,
+  IoRequest = 40,
+  PtuPos = 41,
+  Tty2 = 42,
+  GetAux = 43,
+  BumpStall = 44,  // 1 front, 2 rear, 3 both rings stop the robot
+  Tcm2 = 45,
   JoyDrive = 47,
+  MovingBlink = 49,
+  HostBaud = 50,  // 0..4: 9600, 19200, 38400, 57600, 115200 bit/s
+  Aux1Baud = 51,
+  Aux2Baud = 52,
+  EStop = 55,
+  EStall = 56,
   Gyro = 58,
+  BatteryInfo = 62,
 };
+
+/// The command's name ("HEAD"), or "unknown" for a number P2OS lacks.
+const char* command_name(uint8_t command);
 
 /// The type byte before a command's argument.
 enum class ArgType : uint8_t {

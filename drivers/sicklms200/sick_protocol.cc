@@ -43,7 +43,7 @@ bool make_reply(uint8_t code, std::span<const uint8_t> data, uint8_t status, Tel
   uint8_t body[kMaxTelegramBytes];
   if (data.size() + 2 + kFrameBytes > kMaxTelegramBytes) return false;
   body[0] = code;
-  memcpy(body + 1, data.data(), data.size());
+  if (!data.empty()) memcpy(body + 1, data.data(), data.size());
   body[1 + data.size()] = status;
   return frame(kReplyAddress, {body, data.size() + 2}, out);
 }
@@ -59,6 +59,9 @@ bool mode_for_baud(uint32_t baud, Mode& out) {
   switch (baud) {
     case 9600:
       out = Mode::Baud9600;
+      return true;
+    case 19200:
+      out = Mode::Baud19200;
       return true;
     case 38400:
       out = Mode::Baud38400;

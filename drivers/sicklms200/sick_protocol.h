@@ -29,9 +29,11 @@ inline constexpr uint16_t kNoReturn = 8191;
 
 /// Request codes; a reply carries the request's code + 0x80.
 enum class Request : uint8_t {
+  Reset = 0x10,       // acknowledged with 0x91; 0x90 follows once restarted
   ModeChange = 0x20,
   OneScan = 0x30,
-  Status = 0x31,
+  Status = 0x31,      // 0xB1: the status block (kStatusBytes)
+  Errors = 0x32,      // 0xB2: (type, number) pairs of the errors logged
   Type = 0x3A,
   Variant = 0x3B,
   ReadConfig = 0x74,
@@ -41,21 +43,33 @@ inline constexpr uint8_t reply_code(Request r) {
   return uint8_t(r) | 0x80;
 }
 inline constexpr uint8_t kScanReply = 0xB0;
+/// Mean values (mode 0x26): sample count, then a scan as in 0xB0.
+inline constexpr uint8_t kMeanScanReply = 0xB6;
+/// Sent unasked once the scanner has (re)started: its type string.
+inline constexpr uint8_t kPowerOnReply = 0x90;
+/// The answer to a reset request.
+inline constexpr uint8_t kResetReply = 0x91;
 /// Second byte of a mode change.
 enum class Mode : uint8_t {
   Config = 0x00,  // followed by the password "SICK_LMS"
   Baud38400 = 0x40,
+  Baud19200 = 0x41,
   Baud9600 = 0x42,
   Baud500000 = 0x48,
   Continuous = 0x24,      // scans without being asked
   StopContinuous = 0x25,  // monitor mode: scans on request only
+  MeanValues = 0x26,      // followed by the sample count, 2..250: means streamed
 };
 /// Units of range values (the configuration's units byte; the top bits of a
 /// scan's count).
 enum class Units : uint8_t { Centimetres = 0, Millimetres = 1, Decimetres = 2 };
 
-/// The configuration block (0x74 reply data, 0x77 request data): bytes.
-inline constexpr size_t kConfigBytes = 32;
+/// The configuration block (0x74 reply data, 0x77 request data), bytes at
+/// most: the LMS200 telegram listing gives 32, later firmware (and
+/// sicktoolbox) 34; a driver writes back what it read.
+inline constexpr size_t kConfigBytes = 34;
+/// The status block (0xB1 reply data), bytes.
+inline constexpr size_t kStatusBytes = 152;
 /// Offset of the units byte in the configuration block.
 inline constexpr size_t kConfigUnits = 6;
 
@@ -76,7 +90,7 @@ bool make_request(std::span<const uint8_t> body, Telegram& out);
 bool make_reply(uint8_t code, std::span<const uint8_t> data, uint8_t status, Telegram& out);
 
 Telegram mode_change(Mode mode);
-/// Mode change to the baud given in bit/s: 9600, 38400 or 500000.
+/// Mode change to the baud given in bit/s: 9600, 19200, 38400 or 500000.
 bool baud_change(uint32_t baud, Telegram& out);
 /// The mode the scanner switches to for `baud`; false for other bauds.
 bool mode_for_baud(uint32_t baud, Mode& out);

@@ -10,10 +10,9 @@
 namespace troupe::drivers::sicklms200 {
 namespace {
 
-constexpr uint64_t kTickUs = 50'000;
 constexpr double kCentidegreeToRad = 3.14159265358979323846 / 18000.0;
 // Power-up speed first, then the speeds a driver may have left it at.
-constexpr uint32_t kProbeOrder[] = {9600, 38400, 500000};
+constexpr uint32_t kProbeOrder[] = {9600, 38400, 500000, 19200};
 
 const char* state_name(SickLms200::State s) {
   switch (s) {
@@ -45,7 +44,7 @@ bool valid_variant(uint16_t width, uint16_t res) {
 
 }  // namespace
 
-SickLms200::SickLms200() : link_(*this) {}
+SickLms200::SickLms200() : session_(*this) {}
 
 bool SickLms200::setup(Node& node, const DriverSetup& setup, std::string& error) {
   name_ = setup.name;
@@ -60,10 +59,9 @@ bool SickLms200::setup(Node& node, const DriverSetup& setup, std::string& error)
     error = "option \"port\" is missing: the serial device the scanner is on, e.g. \"/dev/ttyUSB0\"";
     return false;
   }
-  port_ = opt->port()->str();
   Mode unused{};
   if (!mode_for_baud(opt->baud(), unused)) {
-    error = "option \"baud\": the scanner runs at 9600, 38400 or 500000 bit/s, not " +
+    error = "option \"baud\": the scanner runs at 9600, 19200, 38400 or 500000 bit/s, not " +
             std::to_string(opt->baud());
     return false;
   }
@@ -77,10 +75,6 @@ bool SickLms200::setup(Node& node, const DriverSetup& setup, std::string& error)
     error = "options \"reply_timeout_ms\" and \"reply_attempts\" must be > 0 and \"scan_timeout_ms\" >= 200";
     return false;
   }
-  if (opt->reopen_min_ms() == 0 || opt->reopen_max_ms() < opt->reopen_min_ms()) {
-    error = "options \"reopen_min_ms\" must be > 0 and \"reopen_max_ms\" at least as large";
-    return false;
-  }
   target_baud_ = opt->baud();
   width_deg_ = opt->scan_width_deg();
   resolution_cdeg_ = opt->resolution_cdeg();
@@ -91,51 +85,25 @@ bool SickLms200::setup(Node& node, const DriverSetup& setup, std::string& error)
   reply_timeout_us_ = opt->reply_timeout_ms() * 1000ull;
   reply_attempts_ = opt->reply_attempts();
   scan_timeout_us_ = opt->scan_timeout_ms() * 1000ull;
-  reopen_min_us_ = opt->reopen_min_ms() * 1000ull;
-  reopen_max_us_ = opt->reopen_max_ms() * 1000ull;
-  backoff_us_ = reopen_min_us_;
-  std::copy(std::begin(kProbeOrder), std::end(kProbeOrder), probe_bauds_);
-  probe_count_ = std::size(kProbeOrder);
-
-  link_.attach(node.loop());
-  tick_ = node.loop().start_timer(kTickUs, kTickUs, this);
-  if (tick_ == 0) {
-    error = "no timer left";
-    return false;
-  }
   // A scanner not there yet is no reason to refuse to start: the node
-  // serves its other devices and keeps trying this port.
-  try_open();
-  return true;
+  // serves its other devices and the session keeps trying the port.
+  serial::SerialSession::Options so;
+  so.name = name_;
+  so.port = opt->port()->str();
+  so.bauds = kProbeOrder;
+  so.reopen_min_us = opt->reopen_min_ms() * 1000ull;
+  so.reopen_max_us = opt->reopen_max_ms() * 1000ull;
+  return session_.start(node.loop(), so, error);
 }
 
-void SickLms200::try_open() {
-  std::string error;
-  if (!link_.open(port_, probe_bauds_[0], error)) {
-    reopen_at_us_ = node_->loop().now_us() + backoff_us_;
-    if (!open_failed_logged_) {
-      log_warn("%s: %s; trying again every %u ms or less", name_.c_str(), error.c_str(),
-               unsigned(reopen_max_us_ / 1000));
-      open_failed_logged_ = true;
-    } else {
-      log_debug("%s: %s", name_.c_str(), error.c_str());
-    }
-    backoff_us_ = std::min(backoff_us_ * 2, reopen_max_us_);
-    state_ = State::Closed;
-    return;
-  }
-  log_info("%s: opened %s; looking for the scanner", name_.c_str(), port_.c_str());
-  open_failed_logged_ = false;
+void SickLms200::on_session_open() {
+  log_info("%s: looking for the scanner on %s", name_.c_str(), session_.port().c_str());
   probe(0);
 }
 
 void SickLms200::probe(size_t index) {
   probe_index_ = index;
-  std::string error;
-  if (link_.baud() != probe_bauds_[index] && !link_.set_baud(probe_bauds_[index], error)) {
-    return lose(error, backoff_us_);
-  }
-  link_.discard_input();
+  if (!session_.probe_baud(index)) return;
   scanner_.reset();
   ask(State::Connect, enter_config(), reply_code(Request::ModeChange));
 }
@@ -145,11 +113,11 @@ void SickLms200::ask(State state, const Telegram& request, uint8_t reply) {
   pending_ = request;
   expect_ = reply;
   attempts_ = 1;
-  deadline_us_ = node_->loop().now_us() + reply_timeout_us_;
-  if (!link_.send(request.view())) log_debug("%s: output queue full; a request was dropped", name_.c_str());
+  session_.arm(reply_timeout_us_);
+  session_.send(request.view());
 }
 
-void SickLms200::on_serial_bytes(std::span<const uint8_t> bytes) {
+void SickLms200::on_session_bytes(std::span<const uint8_t> bytes) {
   scan_telegrams(scanner_, bytes, [this](std::span<const uint8_t> body) { handle(body); });
 }
 
@@ -180,16 +148,16 @@ void SickLms200::on_reply(const Reply& reply) {
   auto refused = [&](const char* what) {
     log_error("%s: the scanner refused %s (reply 0x%02x, data %u bytes)", name_.c_str(), what,
               unsigned(reply.code), unsigned(reply.data.size()));
-    lose("configuration refused", reopen_max_us_);
+    session_.lose("configuration refused", session_.reopen_max_us());
   };
   bool ok = !reply.data.empty() && reply.data[0] == 0;  // mode change: 0 is success
   switch (state_) {
     case State::Connect: {
       if (!ok) return refused("configuration mode (wrong password?)");
       // The speed that answered is tried first next time.
-      std::rotate(probe_bauds_, probe_bauds_ + probe_index_, probe_bauds_ + probe_index_ + 1);
+      session_.prefer(probe_index_);
       probe_index_ = 0;
-      if (link_.baud() == target_baud_)
+      if (session_.baud() == target_baud_)
         return ask(State::Variant, variant(width_deg_, resolution_cdeg_), reply_code(Request::Variant));
       Telegram t;
       baud_change(target_baud_, t);
@@ -198,14 +166,10 @@ void SickLms200::on_reply(const Reply& reply) {
     case State::SwitchBaud: {
       if (!ok) return refused("the baud change");
       // The scanner answered at the old speed and now listens at the new.
-      std::string error;
-      if (!link_.set_baud(target_baud_, error)) return lose(error, backoff_us_);
+      if (!session_.set_baud(target_baud_)) return;
       scanner_.reset();
       // Its new speed is where a reconnect should look first.
-      for (size_t i = 0; i < probe_count_; ++i) {
-        if (probe_bauds_[i] == target_baud_)
-          std::rotate(probe_bauds_, probe_bauds_ + i, probe_bauds_ + i + 1);
-      }
+      session_.prefer_baud(target_baud_);
       return ask(State::Variant, variant(width_deg_, resolution_cdeg_), reply_code(Request::Variant));
     }
     case State::Variant:
@@ -226,9 +190,9 @@ void SickLms200::on_reply(const Reply& reply) {
     case State::Start:
       if (!ok) return refused("continuous output");
       log_info("%s: scanner on %s streams %u degrees at %.2f degree steps, %u baud", name_.c_str(),
-               port_.c_str(), unsigned(width_deg_), resolution_cdeg_ / 100.0, unsigned(link_.baud()));
+               session_.port().c_str(), unsigned(width_deg_), resolution_cdeg_ / 100.0, unsigned(session_.baud()));
       state_ = State::Streaming;
-      backoff_us_ = reopen_min_us_;
+      session_.connected();
       last_scan_us_ = node_->loop().now_us();
       return;
     case State::Closed:
@@ -242,43 +206,31 @@ void SickLms200::on_timeout() {
   // before asking again.
   expire_telegrams(scanner_, [this](std::span<const uint8_t> body) { handle(body); });
   if (state_ == State::Streaming || state_ == State::Closed) return;
-  if (node_->loop().now_us() < deadline_us_) return;  // a reply came and moved us on
+  if (!session_.expired()) return;  // a reply came and moved us on
   if (attempts_ < reply_attempts_) {
     ++attempts_;
-    deadline_us_ = node_->loop().now_us() + reply_timeout_us_;
-    link_.send(pending_.view());
+    session_.arm(reply_timeout_us_);
+    session_.send(pending_.view());
     return;
   }
   if (state_ == State::Connect) {
-    if (probe_index_ + 1 < probe_count_) {
-      log_debug("%s: no answer at %u baud", name_.c_str(), unsigned(probe_bauds_[probe_index_]));
+    if (probe_index_ + 1 < session_.bauds().size()) {
+      log_debug("%s: no answer at %u baud", name_.c_str(), unsigned(session_.bauds()[probe_index_]));
       return probe(probe_index_ + 1);
     }
-    return lose("no scanner answers on " + port_ + " at 9600, 38400 or 500000 baud", backoff_us_);
+    return session_.lose("no scanner answers on " + session_.port() + " at " + session_.bauds_text() + " baud");
   }
   log_warn("%s: no reply while %s; starting over", name_.c_str(), state_name(state_));
   probe(0);
 }
 
-void SickLms200::lose(const std::string& why, uint64_t delay_us) {
-  link_.close();
+void SickLms200::on_session_down() {
   state_ = State::Closed;
-  reopen_at_us_ = node_->loop().now_us() + delay_us;
-  backoff_us_ = std::min(std::max(delay_us, reopen_min_us_) * 2, reopen_max_us_);
-  log_warn("%s: %s; reopening %s in %u ms", name_.c_str(), why.c_str(), port_.c_str(),
-           unsigned(delay_us / 1000));
 }
 
-void SickLms200::on_serial_lost(const std::string& why) {
-  lose(port_ + ": " + why, backoff_us_);
-}
-
-void SickLms200::on_timer(TimerId id) {
-  if (id != tick_) return;
-  uint64_t now = node_->loop().now_us();
+void SickLms200::on_session_tick(uint64_t now) {
   switch (state_) {
     case State::Closed:
-      if (now >= reopen_at_us_) try_open();
       return;
     case State::Streaming:
       if (now - last_scan_us_ > scan_timeout_us_) {
@@ -288,7 +240,7 @@ void SickLms200::on_timer(TimerId id) {
       }
       return;
     default:
-      if (now >= deadline_us_) on_timeout();
+      if (session_.expired()) on_timeout();
       return;
   }
 }
@@ -321,7 +273,7 @@ void SickLms200::on_request(DeviceId device, const wire::Message& req, RequestTo
       // Continuous output sends scans as fast as the line carries them, up
       // to the scanner's 75 Hz.
       double telegram_bytes = kFrameBytes + 4.0 + 2.0 * expected_count_;
-      double rate = std::min(75.0, (link_.is_open() ? link_.baud() : target_baud_) / 10.0 / telegram_bytes);
+      double rate = std::min(75.0, (session_.is_open() ? session_.baud() : target_baud_) / 10.0 / telegram_bytes);
       auto body =
           wire::CreateRangerConfig(b, float(-half), float(half), float(resolution_cdeg_ * kCentidegreeToRad),
                                    0, kNoReturn / 1000.0f, 0.001f, float(rate));
@@ -334,11 +286,9 @@ void SickLms200::on_request(DeviceId device, const wire::Message& req, RequestTo
 }
 
 void SickLms200::shutdown() {
-  if (tick_ != 0) node_->loop().cancel_timer(tick_);
-  tick_ = 0;
   // Leave the scanner quiet; it keeps its speed until power-down.
-  if (state_ == State::Streaming) link_.send(mode_change(Mode::StopContinuous).view());
-  link_.close();
+  if (state_ == State::Streaming) session_.send(mode_change(Mode::StopContinuous).view());
+  session_.stop();
   state_ = State::Closed;
 }
 

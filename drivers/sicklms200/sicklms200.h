@@ -19,13 +19,13 @@
 #include <cstdint>
 #include <string>
 
-#include "drivers/serial_port/serial_link.h"
+#include "drivers/serial_port/serial_session.h"
 #include "drivers/sicklms200/sick_protocol.h"
 #include "runtime/driver.h"
 
 namespace troupe::drivers::sicklms200 {
 
-class SickLms200 final : public Driver, private serial::SerialLink::Listener {
+class SickLms200 final : public Driver, private serial::SerialSession::Listener {
  public:
   enum class State : uint8_t {
     Closed,
@@ -41,48 +41,43 @@ class SickLms200 final : public Driver, private serial::SerialLink::Listener {
   SickLms200();
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
-  void on_timer(TimerId id) override;
   void shutdown() override;
 
  private:
-  void on_serial_bytes(std::span<const uint8_t> bytes) override;
-  void on_serial_lost(const std::string& why) override;
-  void handle(std::span<const uint8_t> body);
-  void try_open();
+  // The configuration steps, each one request and its reply.
   void probe(size_t index);
   void ask(State state, const Telegram& request, uint8_t reply);
+  void handle(std::span<const uint8_t> body);
   void on_reply(const Reply& reply);
   void on_timeout();
-  void lose(const std::string& why, uint64_t delay_us);
   void publish(const Scan& scan);
+  // What the serial session reports.
+  void on_session_open() override;
+  void on_session_bytes(std::span<const uint8_t> bytes) override;
+  void on_session_tick(uint64_t now_us) override;
+  void on_session_down() override;
 
-  serial::SerialLink link_;
+  serial::SerialSession session_;
   TelegramScanner scanner_{kReplyAddress};
   std::string name_ = "sicklms200";
-  std::string port_;
   DeviceId ranger_ = kNoDevice;
 
   // Options.
   uint32_t target_baud_ = 38400;
   uint16_t width_deg_ = 180, resolution_cdeg_ = 100;
   float pose_x_ = 0, pose_y_ = 0, pose_yaw_ = 0;
-  uint64_t reply_timeout_us_ = 0, scan_timeout_us_ = 0, reopen_min_us_ = 0, reopen_max_us_ = 0;
+  uint64_t reply_timeout_us_ = 0, scan_timeout_us_ = 0;
   uint32_t reply_attempts_ = 0;
 
   // State machine.
   State state_ = State::Closed;
-  uint32_t probe_bauds_[4] = {};
-  size_t probe_count_ = 0, probe_index_ = 0;
+  size_t probe_index_ = 0;
   Telegram pending_;    // the request waiting for its reply
   uint8_t expect_ = 0;  // the reply code it waits for
   uint32_t attempts_ = 0;
-  uint64_t deadline_us_ = 0;
-  uint64_t reopen_at_us_ = 0, backoff_us_ = 0;
   uint64_t last_scan_us_ = 0;
-  bool open_failed_logged_ = false;
   uint8_t config_[kConfigBytes] = {};
   size_t config_size_ = 0;
-  TimerId tick_ = 0;
   uint16_t expected_count_ = 0;
   uint32_t scans_dropped_ = 0;
   Scan scan_;

@@ -9,57 +9,51 @@
 // and the lines resume once the desktop has the robot back.
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <string>
 
 #include "wire/address.h"
+#include "wire/cli/args.h"
 #include "wire/client/proxies.h"
+#include "wire/geometry.h"
 
 using namespace troupe;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using geometry::kPi;
+using geometry::wrap_angle;
 
-double wrap(double a) {
-  return std::remainder(a, 2 * kPi);
-}
-
-bool parse_host(const char* text, uint16_t default_port, wire::HostPort& out) {
-  std::string error;
-  out.port = default_port;
-  if (!wire::parse_host(text, out, error)) {
-    std::fprintf(stderr, "offload-watch: %s\n", error.c_str());
-    return false;
-  }
-  if (std::strchr(text, ':') == nullptr) out.port = default_port;
+// HOST[:PORT], with a port of its own when none is given.
+bool parse_host(const std::string& text, uint16_t default_port, wire::HostPort& out, std::string& error) {
+  if (!wire::parse_host(text, out, error)) return false;
+  if (text.find(':') == std::string::npos) out.port = default_port;
   return true;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  wire::HostPort desktop{"localhost", 6665}, sim{"localhost", 7000};
+  std::string desktop_text = "localhost:6665", sim_text = "localhost:7000";
   std::string robot = "r0";
   double seconds = 0;  // 0: forever
-  int positional = 0;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--robot") == 0 && i + 1 < argc) {
-      robot = argv[++i];
-    } else if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
-      seconds = std::atof(argv[++i]);
-    } else if (argv[i][0] != '-' && positional == 0) {
-      if (!parse_host(argv[i], 6665, desktop)) return 2;
-      ++positional;
-    } else if (argv[i][0] != '-' && positional == 1) {
-      if (!parse_host(argv[i], 7000, sim)) return 2;
-      ++positional;
-    } else {
-      std::fprintf(stderr,
-                   "usage: offload-watch [DESKTOP[:PORT]] [SIM[:PORT]] [--robot NAME] [--seconds S]\n");
-      return 2;
-    }
+  auto app = cli::make_app(
+      "offload-watch",
+      {"offload-watch [DESKTOP[:PORT]] [SIM[:PORT]] [--robot NAME] [--seconds S]",
+       "Prints, about once a second, the desktop's mcl estimate (position2d:1 of\n"
+       "DESKTOP, default localhost:6665) against the robot's true pose in troupe-sim\n"
+       "(SIM, default localhost:7000), and the error.\n",
+       {"offload-watch localhost localhost:7000", "offload-watch localhost localhost:7000 --robot r0 --seconds 30"}});
+  app->add_option("DESKTOP", desktop_text, "the desktop node, HOST[:PORT] (port 6665 unless given)");
+  app->add_option("SIM", sim_text, "troupe-sim, HOST[:PORT] (port 7000 unless given)");
+  app->add_option("--robot", robot, "the simulated robot's name (default r0)")->type_name("NAME");
+  app->add_option("--seconds", seconds, "stop after S seconds (default: when interrupted)")
+      ->type_name("S")
+      ->check(cli::above(0));
+  if (int rc = cli::parse(*app, argc, argv); rc >= 0) return rc;
+  wire::HostPort desktop, sim;
+  std::string error;
+  if (!parse_host(desktop_text, 6665, desktop, error) || !parse_host(sim_text, 7000, sim, error)) {
+    return cli::usage_error(*app, error);
   }
   client::Client desk(desktop.host, desktop.port), world(sim.host, sim.port);
   if (!desk.connect(5000)) {
@@ -99,7 +93,7 @@ int main(int argc, char** argv) {
     double x = e.x + v.x * std::cos(a) * dt, y = e.y + v.x * std::sin(a) * dt;
     std::printf("%10.1f %9.3f,%8.3f,%8.3f %9.3f,%8.3f,%8.3f %9.3f %8.2f %5zu\n", t * 1e-6, x, y, a, truth.x,
                 truth.y, truth.a, std::hypot(x - truth.x, y - truth.y),
-                std::fabs(wrap(a - truth.a)) * 180 / kPi, localize.hypotheses().size());
+                std::fabs(wrap_angle(a - truth.a)) * 180 / kPi, localize.hypotheses().size());
     std::fflush(stdout);
     if (seconds > 0 && double(t - start_us) * 1e-6 >= seconds) return 0;
   }

@@ -1,11 +1,13 @@
 // In-process controllers (Stage's `ctrl "wander"`): C++ classes built as
-// shared libraries, one instance per robot, run before every step. A
-// controller sees its own robot only: its sensors, its state, its command.
+// plugins of the one plugin ABI (host-sim/plugin/plugin_abi.h), one
+// instance per robot, run before every step. A controller sees its own
+// robot only: its sensors, its state, its command.
 //
-// A controller library exports one C function:
-//   extern "C" troupe::sim::Controller* troupe_controller_create(const char* args);
+// A controller library wander.so names a factory,
+//   troupe::sim::Controller* make_wander(const char* args);
+//   TROUPE_CONTROLLER("wander", make_wander)
 // `args` is the rest of the ctrl string ("wander speed=0.3" gives
-// "speed=0.3"). It returns nullptr when the arguments are bad.
+// "speed=0.3"); the factory returns nullptr when the arguments are bad.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "host-sim/plugin/plugin_abi.h"
 #include "host-sim/sim/world.h"
 
 namespace troupe::sim {
@@ -62,12 +65,24 @@ class Controller {
   virtual void update(RobotHandle& robot) = 0;
 };
 
-using ControllerFactory = Controller* (*)(const char* args);
-inline constexpr const char* kControllerFactorySymbol = "troupe_controller_create";
+/// The version of the Controller and RobotHandle interfaces
+/// (TroupePluginInfo::interface_version).
+inline constexpr uint32_t kControllerInterfaceVersion = 1;
 
-/// Marks a controller library's factory as exported:
-///   TROUPE_CONTROLLER_EXPORT Controller* troupe_controller_create(const char* args) { ... }
-#define TROUPE_CONTROLLER_EXPORT extern "C" __attribute__((visibility("default")))
+/// The plugin description of a controller made by `Create`.
+template <Controller* (*Create)(const char* args)>
+const TroupePluginInfo* controller_info(const char* name) {
+  static const TroupePluginInfo info{TROUPE_PLUGIN_ABI_VERSION, TROUPE_PLUGIN_CONTROLLER, kControllerInterfaceVersion,
+                                     name, [](const char* args) -> void* { return Create(args); },
+                                     [](void* p) { delete static_cast<Controller*>(p); }};
+  return &info;
+}
+
+/// Exports controller NAME (the library is NAME.so) made by CREATE.
+#define TROUPE_CONTROLLER(NAME, CREATE)                             \
+  TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() { \
+    return troupe::sim::controller_info<CREATE>(NAME);              \
+  }
 
 /// Controller arguments: "speed=0.3 turn=1 aggregate" as numbers by key and
 /// bare words as flags. Header-only, so controller libraries link nothing.

@@ -1,9 +1,6 @@
 #include "host-sim/sim/controller_host.h"
 
-#include <dlfcn.h>
-
-#include <filesystem>
-#include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -63,38 +60,10 @@ class WorldRobot final : public RobotHandle {
 
 }  // namespace
 
-ControllerHost::~ControllerHost() {
-  entries_.clear();  // controllers' code lives in the libraries: destroy first
-  for (void* lib : libraries_) dlclose(lib);
-}
-
-void* ControllerHost::open_library(const std::string& name, const Options& options, std::string& tried) {
-  std::vector<std::string> candidates;
-  if (name.find('/') != std::string::npos) {
-    candidates.push_back(name);
-  } else {
-    for (const std::string& dir : options.search_path) {
-      for (const std::string& file : {name + ".so", "lib" + name + ".so", name}) {
-        candidates.push_back((std::filesystem::path(dir) / file).string());
-      }
-    }
-  }
-  for (const std::string& path : candidates) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) continue;
-    if (void* lib = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) return lib;
-    tried += "\n  " + path + ": " + dlerror();
-    return nullptr;
-  }
-  std::ostringstream dirs;
-  for (const std::string& dir : options.search_path) dirs << " " << dir;
-  tried += " (searched:" + (options.search_path.empty() ? std::string(" nothing") : dirs.str()) + ")";
-  return nullptr;
-}
-
 bool ControllerHost::load(World& world, const Options& options, world::Diagnostics& diags) {
   const size_t errors = diags.error_count();
-  std::map<std::string, ControllerFactory> factories;
+  plugin::Loader loader(options.search_path);
+  std::set<std::string> missing;
   for (RobotId id = 0; id < world.robot_count(); ++id) {
     const RobotDesc& desc = world.desc().robots[id];
     if (desc.ctrl.empty()) continue;
@@ -104,35 +73,26 @@ bool ControllerHost::load(World& world, const Options& options, world::Diagnosti
     std::string args;
     std::getline(words, args);
     args.erase(0, args.find_first_not_of(' '));
-    auto it = factories.find(name);
-    if (it == factories.end()) {
-      std::string tried;
-      void* lib = open_library(name, options, tried);
-      ControllerFactory factory = nullptr;
-      if (lib != nullptr) {
-        libraries_.push_back(lib);
-        factory = reinterpret_cast<ControllerFactory>(dlsym(lib, kControllerFactorySymbol));
-        if (factory == nullptr) tried = " (the library has no " + std::string(kControllerFactorySymbol) + ")";
+    if (!loader.has(name)) {
+      if (!missing.insert(name).second) continue;  // said once per name
+      std::string error;
+      loader.make<Controller>(name, TROUPE_PLUGIN_CONTROLLER, kControllerInterfaceVersion, nullptr, error);
+      const std::string msg = error + ", for robot '" + desc.name + "'";
+      if (options.ignore_missing) {
+        diags.warn(desc.ctrl_loc, msg + "; the robot stays idle");
+      } else {
+        diags.error(desc.ctrl_loc, msg + "; --ignore-missing-ctrl loads the world with such robots idle");
       }
-      if (factory == nullptr) {
-        std::string msg = "controller '" + name + "' for robot '" + desc.name + "' not found" + tried;
-        if (options.ignore_missing) {
-          diags.warn(desc.ctrl_loc, msg + "; the robot stays idle");
-        } else {
-          diags.error(desc.ctrl_loc, msg + "; --ignore-missing-ctrl loads the world with such robots idle");
-        }
-      }
-      it = factories.emplace(name, factory).first;
-    }
-    if (it->second == nullptr) continue;
-    std::unique_ptr<Controller> c(it->second(args.c_str()));
-    if (!c) {
-      diags.error(desc.ctrl_loc, "controller '" + name + "' refused its arguments \"" + args + "\"");
       continue;
     }
-    std::string why;
-    if (!attach(world, id, std::move(c), why)) {
-      diags.error(desc.ctrl_loc, "controller '" + name + "' cannot run robot '" + desc.name + "': " + why);
+    std::string error;
+    auto c = loader.make<Controller>(name, TROUPE_PLUGIN_CONTROLLER, kControllerInterfaceVersion, args.c_str(), error);
+    if (!c) {
+      diags.error(desc.ctrl_loc, error);
+      continue;
+    }
+    if (!attach(world, id, std::move(c), error)) {
+      diags.error(desc.ctrl_loc, "controller '" + name + "' cannot run robot '" + desc.name + "': " + error);
     }
   }
   return diags.error_count() == errors;
@@ -140,12 +100,18 @@ bool ControllerHost::load(World& world, const Options& options, world::Diagnosti
 
 bool ControllerHost::attach(World& world, RobotId robot, std::unique_ptr<Controller> controller,
                             std::string& error) {
+  Controller* raw = controller.release();
+  return attach(world, robot, plugin::Instance<Controller>(nullptr, raw, [](void* p) { delete static_cast<Controller*>(p); }),
+                error);
+}
+
+bool ControllerHost::attach(World& world, RobotId robot, plugin::Instance<Controller> controller,
+                            std::string& error) {
   WorldRobot handle(world, robot);
   if (!controller->init(handle, error)) return false;
   entries_.push_back({robot, std::move(controller)});
   return true;
 }
-
 void ControllerHost::update(World& world) {
   if (phase_ == SIZE_MAX) {
     for (size_t i = 0; i < world.profile().phases().size(); ++i) {

@@ -1,12 +1,12 @@
-// Loads the controllers a world names (dlopen) and runs them every step.
-// A library is found as "<name>.so", "lib<name>.so" or "<name>" (a path)
-// in each search directory in turn.
+// Loads the controllers a world names (plugins of the one plugin loader,
+// host-sim/plugin: NAME.so on its search path) and runs them every step.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "host-sim/plugin/plugin_loader.h"
 #include "host-sim/sim/controller.h"
 #include "host-sim/world/diagnostics.h"
 
@@ -15,7 +15,8 @@ namespace troupe::sim {
 class ControllerHost {
  public:
   struct Options {
-    /// Directories searched for controller libraries, in order.
+    /// Folders searched for controller libraries, in order
+    /// (plugin::search_path() builds the one rule).
     std::vector<std::string> search_path;
     /// A missing controller leaves its robot idle (a warning) instead of
     /// failing the load (an error).
@@ -23,7 +24,6 @@ class ControllerHost {
   };
 
   ControllerHost() = default;
-  ~ControllerHost();
   ControllerHost(const ControllerHost&) = delete;
   ControllerHost& operator=(const ControllerHost&) = delete;
 
@@ -33,6 +33,8 @@ class ControllerHost {
   bool load(World& world, const Options& options, world::Diagnostics& diags);
   /// Attaches a controller made in this process (tests, benchmarks).
   bool attach(World& world, RobotId robot, std::unique_ptr<Controller> controller, std::string& error);
+  /// Attaches a controller a plugin made.
+  bool attach(World& world, RobotId robot, plugin::Instance<Controller> controller, std::string& error);
   /// Runs every controller once, in robot order, timed as the world
   /// profile's "controllers" phase.
   void update(World& world);
@@ -46,12 +48,10 @@ class ControllerHost {
  private:
   struct Entry {
     RobotId robot;
-    std::unique_ptr<Controller> controller;
+    plugin::Instance<Controller> controller;
   };
-  void* open_library(const std::string& name, const Options& options, std::string& tried);
 
   std::vector<Entry> entries_;
-  std::vector<void*> libraries_;
   std::vector<std::string> errors_;
   size_t phase_ = SIZE_MAX;
 };

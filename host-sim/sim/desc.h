@@ -190,6 +190,8 @@ struct WorldDesc {
   /// Stop after this much simulated time, s; 0: never.
   double quit_time = 0;
   bool paused = false;
+  /// Where the world file says `paused` ("file:line"); empty when it does not.
+  std::string paused_at;
   /// Multiple of real time to run at; 0 or less: as fast as possible.
   double speedup = 1;
   /// Worker threads asked for. Results never depend on it.

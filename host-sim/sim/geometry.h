@@ -1,70 +1,25 @@
-// Plane geometry for the engine: points, poses, and the few intersection
-// tests the step needs. Everything in metres and radians.
+// The few intersection tests the engine's step needs, over the project's
+// plane geometry (wire/geometry.h). Everything in metres and radians.
 #pragma once
 
 #include <cmath>
 #include <span>
 
+#include "wire/geometry.h"
+
 namespace troupe::sim {
 
-inline constexpr double kPi = 3.14159265358979323846;
-
-struct Vec2 {
-  double x = 0;  // m
-  double y = 0;  // m
-};
-
-inline Vec2 operator+(Vec2 a, Vec2 b) {
-  return {a.x + b.x, a.y + b.y};
-}
-inline Vec2 operator-(Vec2 a, Vec2 b) {
-  return {a.x - b.x, a.y - b.y};
-}
-inline Vec2 operator*(double s, Vec2 a) {
-  return {s * a.x, s * a.y};
-}
-inline double dot(Vec2 a, Vec2 b) {
-  return a.x * b.x + a.y * b.y;
-}
-inline double cross(Vec2 a, Vec2 b) {
-  return a.x * b.y - a.y * b.x;
-}
-inline double length(Vec2 a) {
-  return std::hypot(a.x, a.y);
-}
-
-/// A pose in the plane: position (m) and heading (rad, counter-clockwise
-/// from the x axis). Also used for velocities (m/s, m/s, rad/s).
-struct Pose {
-  double x = 0;
-  double y = 0;
-  double a = 0;
-};
-
-/// Angle wrapped into [-pi, pi], rad.
-inline double wrap_angle(double a) {
-  return std::remainder(a, 2 * kPi);
-}
-
-/// `local` (a pose in `frame`'s coordinates) in the frame `frame` lives in.
-inline Pose compose(const Pose& frame, const Pose& local) {
-  double c = std::cos(frame.a), s = std::sin(frame.a);
-  return {frame.x + c * local.x - s * local.y, frame.y + s * local.x + c * local.y,
-          wrap_angle(frame.a + local.a)};
-}
-
-/// `global` expressed in `frame`'s coordinates (the inverse of compose).
-inline Pose relative(const Pose& frame, const Pose& global) {
-  double c = std::cos(frame.a), s = std::sin(frame.a);
-  double dx = global.x - frame.x, dy = global.y - frame.y;
-  return {c * dx + s * dy, -s * dx + c * dy, wrap_angle(global.a - frame.a)};
-}
-
-/// A point of `frame`'s coordinates in the outer frame.
-inline Vec2 transform(const Pose& frame, Vec2 p) {
-  double c = std::cos(frame.a), s = std::sin(frame.a);
-  return {frame.x + c * p.x - s * p.y, frame.y + s * p.x + c * p.y};
-}
+using geometry::kPi;
+using geometry::Vec2;
+/// The engine's pose: the project's Pose2 (also used for velocities).
+using Pose = geometry::Pose2;
+using geometry::compose;
+using geometry::cross;
+using geometry::dot;
+using geometry::length;
+using geometry::relative;
+using geometry::transform;
+using geometry::wrap_angle;
 
 /// Distance along the ray `origin + t * dir` (|dir| = 1) to the first crossing
 /// of segment [a, b], or a negative value when they do not meet.

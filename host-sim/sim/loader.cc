@@ -131,6 +131,7 @@ void Loader::world_properties(const Entity& w, WorldDesc& out) {
   out.interval_real = read_.number(w, "interval_real", out.interval_real * 1e3) * 1e-3;
   out.quit_time = read_.number(w, "quit_time", out.quit_time);
   out.paused = read_.flag(w, "paused", out.paused);
+  if (const auto* p = w.find("paused")) out.paused_at = p->loc.str();
   out.speedup = read_.number(w, "speedup", out.speedup);
   out.threads = read_.integer(w, "threads", out.threads);
   for (const char* key : {"show_clock", "show_clock_interval", "log", "name"}) w.find(key);

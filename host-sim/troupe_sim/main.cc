@@ -1,9 +1,10 @@
-// troupe-sim: simulates a Stage world and serves its robots over the wire.
-// See options.cc for the command line.
+// troupe-sim: simulates a Stage world, or a RoboCup match written as one,
+// and serves its robots over the wire. See options.cc for the command line.
 #include <cstdio>
 #include <cstring>
 #include <memory>
 
+#include "host-sim/troupe_sim/robocup_mode.h"
 #include "host-sim/troupe_sim/runner.h"
 #include "host-sim/viewer/view_server.h"
 #include "runtime/log.h"
@@ -29,6 +30,58 @@ int main(int argc, char** argv) {
   }
   troupe::set_log_level(level);
 
+  // The viewer beside the node (its URL on stdout, like the port: tests
+  // read it). False when it was asked for and cannot open.
+  std::unique_ptr<troupe::viewer::ViewServer> viewer;
+  auto start_viewer = [&](uint16_t node_port) {
+    if (!options.serve || !options.view) return true;
+    troupe::viewer::ViewOptions vo;
+    vo.listen = options.view_listen;
+    vo.http_port = options.view_port;
+    // The bridge reaches the node over loopback unless it listens elsewhere.
+    const bool any = options.listen == "0.0.0.0" || options.listen == "::";
+    vo.node_host = any ? "127.0.0.1" : options.listen;
+    vo.node_port = node_port;
+    vo.web_root = troupe::viewer::default_web_root();
+    viewer = std::make_unique<troupe::viewer::ViewServer>(vo);
+    if (!viewer->open(error)) {
+      viewer.reset();
+      if (options.view_asked) {
+        std::fprintf(stderr, "troupe-sim: viewer: %s\n", error.c_str());
+        return false;
+      }
+      troupe::log_warn("no browser viewer: %s (--view P picks another port)", error.c_str());
+      return true;
+    }
+    std::printf("viewer at %s\n", viewer->url().c_str());
+    std::fflush(stdout);
+    viewer->start_thread();
+    return true;
+  };
+  // The port goes to stdout on its own line, so scripts and tests that
+  // asked for port 0 can read it.
+  auto print_port = [&](uint16_t port) {
+    if (!options.serve) return;
+    std::printf("listening on %s:%u\n", options.listen.c_str(), unsigned(port));
+    std::fflush(stdout);
+    troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(port));
+  };
+
+  if (troupe::sim::is_robocup_world(options.world)) {
+    troupe::sim::RobocupMode match;
+    if (!match.init(options, error)) {
+      std::fprintf(stderr, "troupe-sim: %s\n", error.c_str());
+      return 1;
+    }
+    troupe::StopOnSignal stop_on_signal(match.node().loop(), [&match] { match.request_stop(); });
+    troupe::log_info("%s: a RoboCup match, %d robots, cycle %.0f ms, seed %llu", options.world.c_str(),
+                     match.simulation().robot_count(), match.simulation().cycle_s() * 1e3,
+                     static_cast<unsigned long long>(match.simulation().spec().seed));
+    print_port(match.port());
+    if (!start_viewer(match.port())) return 1;
+    return match.run();
+  }
+
   troupe::sim::Runner runner;
   troupe::world::Diagnostics diags;
   const bool ok = runner.init(options, diags, error);
@@ -48,13 +101,7 @@ int main(int argc, char** argv) {
   troupe::log_info("%s: %zu robots (%zu with controllers), step %.0f ms, seed %llu", options.world.c_str(),
                    w.robot_count(), controlled, w.interval() * 1e3,
                    static_cast<unsigned long long>(options.seed));
-  if (options.serve) {
-    // The port goes to stdout on its own line, so scripts and tests that
-    // asked for port 0 can read it.
-    std::printf("listening on %s:%u\n", options.listen.c_str(), unsigned(runner.port()));
-    std::fflush(stdout);
-    troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(runner.port()));
-  }
+  print_port(runner.port());
   // The emulated devices, one "ROBOT DEVICE PATH" line each, for scripts.
   if (!runner.emulation().empty()) {
     std::fputs(runner.emulation().info().c_str(), stdout);
@@ -64,30 +111,14 @@ int main(int argc, char** argv) {
                        troupe::sim::emulated_kind_name(d.kind), d.path.c_str());
     }
   }
-  std::unique_ptr<troupe::viewer::ViewServer> viewer;
-  if (options.serve && options.view) {
-    troupe::viewer::ViewOptions vo;
-    vo.listen = options.view_listen;
-    vo.http_port = options.view_port;
-    // The bridge reaches the node over loopback unless it listens elsewhere.
-    const bool any = options.listen == "0.0.0.0" || options.listen == "::";
-    vo.node_host = any ? "127.0.0.1" : options.listen;
-    vo.node_port = runner.port();
-    vo.web_root = troupe::viewer::default_web_root();
-    viewer = std::make_unique<troupe::viewer::ViewServer>(vo);
-    if (!viewer->open(error)) {
-      viewer.reset();
-      if (options.view_asked) {
-        std::fprintf(stderr, "troupe-sim: viewer: %s\n", error.c_str());
-        return 1;
-      }
-      troupe::log_warn("no browser viewer: %s (--view P picks another port)", error.c_str());
-    } else {
-      // Its own line on stdout, like the port: tests read it.
-      std::printf("viewer at %s\n", viewer->url().c_str());
-      std::fflush(stdout);
-      viewer->start_thread();
-    }
+  // The robots served as Pioneers on TCP, one "ROBOT p2os-tcp HOST:PORT"
+  // line each, for scripts.
+  if (!runner.p2os_tcp().empty()) {
+    std::fputs(runner.p2os_tcp().info().c_str(), stdout);
+    std::fflush(stdout);
+    troupe::log_info("ARIA programs connect to robot %s with -remoteHost %s -remoteRobotTcpPort %u",
+                     w.robot(0).name.c_str(), options.listen.c_str(), unsigned(runner.p2os_tcp().port(0)));
   }
+  if (!start_viewer(runner.port())) return 1;
   return runner.run();
 }

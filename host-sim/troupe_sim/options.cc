@@ -11,7 +11,9 @@ const char* sim_usage() {
          "\n"
          "Simulates the Stage world file WORLD and serves every robot's devices over the\n"
          "wire: robot i's devices are ROBOT/INTERFACE:INDEX (r0/position2d:0, r0/ranger:1)\n"
-         "on one port, and simulation:0 pauses, steps, teleports and resets.\n"
+         "on one port, and simulation:0 pauses, steps, teleports and resets. A RoboCup\n"
+         "match written as a Stage world (robocup_field, ball, referee, robocup_robot)\n"
+         "runs on rigid-body physics, served the same way, with players and a score.\n"
          "\n"
          "options:\n"
          "  --headless              no window (always; the viewer connects over the wire)\n"
@@ -31,7 +33,9 @@ const char* sim_usage() {
          "  --snapshot FILE.png     picture of the world at the end\n"
          "  --snapshot-every S      ... and every S simulated seconds\n"
          "  --log FILE.csv          trajectory log: time,robot,x,y,a every step\n"
-         "  --ctrl-path DIR         where controllers (ctrl \"name\") are looked for\n"
+         "  --plugin-path DIR       look for plugins (controllers: ctrl \"name\") in DIR first;\n"
+         "                          then ../lib/troupe beside troupe-sim, $TROUPE_PLUGIN_PATH,\n"
+         "                          the world's folder\n"
          "  --ignore-missing-ctrl   load anyway; robots whose controller is missing stay idle\n"
          "  --no-ctrl               run no controllers: every robot waits for clients\n"
          "  --profile               print the time spent in each phase of the step at the end\n"
@@ -45,11 +49,20 @@ const char* sim_usage() {
          "                          (repeatable, one per robot)\n"
          "  --emulate-info FILE     also write those lines to FILE (complete when it appears)\n"
          "  --emulate-links DIR     also name each device DIR/ROBOT-DEVICE (a symbolic link)\n"
+         "  --p2os-tcp[=PORT]       serve every robot's base as a Pioneer (P2OS) on TCP, as\n"
+         "                          MobileSim does: robot i on PORT+i (default 8101), its\n"
+         "                          laser in MobileSim's laser packets; unchanged ARIA\n"
+         "                          programs connect to it (printed as lines ROBOT p2os-tcp\n"
+         "                          HOST:PORT)\n"
          "\n"
          "examples:\n"
          "  troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png\n"
          "  troupe-sim simple.world --port 7000 & troupe ls localhost:7000\n"
-         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n";
+         "  troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200\n"
+         "  troupe-sim examples/worlds/sitl_room.world --p2os-tcp      # ARIA: localhost:8101
+"
+         "  troupe-sim examples/robocup/match.world          # a RoboCup match, served and drawn
+";
 }
 
 namespace {
@@ -149,9 +162,9 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
     } else if (a == "--log") {
       if (!value(t)) return false;
       out.log = t;
-    } else if (a == "--ctrl-path") {
+    } else if (a == "--plugin-path") {
       if (!value(t)) return false;
-      out.ctrl_path.push_back(t);
+      out.plugin_path.push_back(t);
     } else if (a == "--emulate") {
       if (!value(t)) return false;
       out.emulate.push_back(t);
@@ -161,6 +174,18 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
     } else if (a == "--emulate-links") {
       if (!value(t)) return false;
       out.emulate_links = t;
+    } else if (a == "--p2os-tcp" || a.rfind("--p2os-tcp=", 0) == 0) {
+      out.p2os_tcp_port = 8101;
+      if (a.size() > 10) {
+        char* end = nullptr;
+        const std::string v = a.substr(11);
+        unsigned long port = strtoul(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || port > 65535) {
+          error = "--p2os-tcp=PORT: not a port number (0..65535)";
+          return false;
+        }
+        out.p2os_tcp_port = int(port);
+      }
     } else if (a == "--log-level") {
       if (!value(t)) return false;
       out.log_level = t;
@@ -176,6 +201,14 @@ bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::
   }
   if (out.world.empty()) {
     error = "no world file given";
+    return false;
+  }
+  if (out.paused && !out.serve) {
+    error = "--paused with --no-serve: nothing could ever resume the simulation";
+    return false;
+  }
+  if (out.p2os_tcp_port >= 0 && !out.serve) {
+    error = "--p2os-tcp with --no-serve: --no-serve opens no sockets";
     return false;
   }
   return true;

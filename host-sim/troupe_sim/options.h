@@ -35,7 +35,7 @@ struct SimOptions {
   std::string snapshot;       // PNG written at the end (and every snapshot_every s)
   double snapshot_every = 0;  // s of simulated time; 0: only at the end
   std::string log;            // trajectory CSV
-  std::vector<std::string> ctrl_path;
+  std::vector<std::string> plugin_path;
   bool ignore_missing_ctrl = false;
   /// Run no in-process controllers (the robots are driven over the wire).
   bool no_ctrl = false;
@@ -48,6 +48,10 @@ struct SimOptions {
   std::string emulate_info;
   /// Give each emulated device a stable name in this folder: ROBOT-DEVICE.
   std::string emulate_links;
+  /// --p2os-tcp[=PORT]: every robot's base as a Pioneer speaking P2OS on
+  /// TCP, robot i on PORT + i (MobileSim's 8101 by default), its laser in
+  /// MobileSim's SIM packets; 0 picks free ports. -1: off.
+  int p2os_tcp_port = -1;
 };
 
 /// Parses argv. False with `error` (which names the bad argument); `help`

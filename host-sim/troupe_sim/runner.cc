@@ -18,6 +18,20 @@ uint64_t sim_clock_us(void* ctx) {
   return uint64_t(std::llround(static_cast<World*>(ctx)->time() * 1e6));
 }
 
+// Stage honours a world's `paused 1` in its GUI only, where a person can
+// resume; headless it runs. Here too: paused only when served.
+bool starts_paused(const SimOptions& options, const WorldDesc& d) {
+  if (!d.paused) return false;
+  if (!options.serve) {
+    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs", d.paused_at.c_str());
+    return false;
+  }
+  const std::string port = options.port == 0 ? "PORT" : std::to_string(options.port);
+  log_info("%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
+           d.paused_at.c_str(), options.listen.c_str(), port.c_str());
+  return true;
+}
+
 }  // namespace
 
 Runner::~Runner() {
@@ -30,20 +44,8 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   if (!world_) return false;
 
   ControllerHost::Options copts;
-  copts.search_path = options.ctrl_path;
-  if (const char* env = std::getenv("TROUPE_CTRL_PATH")) {
-    std::string s = env;
-    for (size_t at = 0; at <= s.size();) {
-      size_t colon = s.find(':', at);
-      if (colon == std::string::npos) colon = s.size();
-      if (colon > at) copts.search_path.push_back(s.substr(at, colon - at));
-      at = colon + 1;
-    }
-  }
-  copts.search_path.push_back(std::filesystem::path(options.world).parent_path().string());
-#ifdef TROUPE_CONTROLLER_DIR
-  copts.search_path.push_back(TROUPE_CONTROLLER_DIR);
-#endif
+  copts.search_path =
+      plugin::search_path(options.plugin_path, std::filesystem::path(options.world).parent_path().string());
   copts.ignore_missing = options.ignore_missing_ctrl;
   if (!options.no_ctrl && !controllers_.load(*world_, copts, diags)) return false;
 
@@ -52,7 +54,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   if (!start_emulation(error)) return false;
 
   const WorldDesc& d = world_->desc();
-  control_.paused = options.paused || d.paused;
+  control_.paused = options.paused || starts_paused(options, d);
   control_.speed = options.fast ? 0 : (options.speed >= 0 ? options.speed : std::max(0.0, d.speedup));
   control_.step = [this](uint32_t n) { step(n); };
   control_.reset = [this] { reset(); };
@@ -90,6 +92,15 @@ bool Runner::start_emulation(std::string& error) {
   for (const std::string& spec : options_.emulate) {
     if (!emulation_.add(*world_, spec, error)) return false;
   }
+  if (options_.p2os_tcp_port >= 0) {
+    if (!emulation_.empty()) {
+      error = "--p2os-tcp serves every robot's base already; it does not mix with --emulate";
+      return false;
+    }
+    if (!p2os_tcp_.open(*world_, options_.listen, options_.p2os_tcp_port, error)) return false;
+    emulation_wall_us_ = monotonic_us();
+    return true;
+  }
   if (emulation_.empty()) return true;
   if (!emulation_.open(options_.emulate_links, error)) return false;
   if (!options_.emulate_info.empty()) {
@@ -111,12 +122,13 @@ bool Runner::start_emulation(std::string& error) {
 }
 
 void Runner::step_emulation() {
-  if (emulation_.empty()) return;
+  if (emulation_.empty() && p2os_tcp_.empty()) return;
   const uint64_t now = monotonic_us();
   const bool real_time = !control_.paused && control_.speed > 0;
   emulation_clock_us_ += double(now - emulation_wall_us_) * (real_time ? control_.speed : 1.0);
   emulation_wall_us_ = now;
   emulation_.step(uint64_t(emulation_clock_us_));
+  p2os_tcp_.step(uint64_t(emulation_clock_us_));
 }
 
 uint16_t Runner::port() const {
@@ -131,7 +143,7 @@ void Runner::serve(int64_t wait_us) {
   // Emulated devices are stepped between polls: often enough that a driver's
   // request is answered within a few milliseconds, as hardware would.
   const int64_t kEmulationWaitUs = 4000;
-  if (!emulation_.empty()) wait_us = std::min(wait_us, kEmulationWaitUs);
+  if (!emulation_.empty() || !p2os_tcp_.empty()) wait_us = std::min(wait_us, kEmulationWaitUs);
   for (size_t i = 1; i < nodes_.size(); ++i) nodes_[i]->poll(0);
   nodes_.front()->poll(wait_us);
   step_emulation();
@@ -165,21 +177,12 @@ void Runner::reset() {
   world_->reset();
   world_->refresh_sensors();
   for (SimServer* s : servers_) s->publish();
-  anchor_speed_ = -1;  // re-anchor the real-time pacing
   next_snapshot_ = options_.snapshot_every;
 }
 
 void Runner::progress(bool final) {
-  // The real-time factor over the last second of wall time.
   const uint64_t now = monotonic_us();
-  if (rtf_wall_us_ == 0) {
-    rtf_wall_us_ = now;
-    rtf_sim_ = world_->time();
-  } else if (now - rtf_wall_us_ >= 1000000 || final) {
-    control_.real_time_factor = (world_->time() - rtf_sim_) / ((now - rtf_wall_us_) * 1e-6);
-    rtf_wall_us_ = now;
-    rtf_sim_ = world_->time();
-  }
+  if (final) rate_.update(control_, world_->time(), now, true);
   // A progress line for fast runs on a terminal.
   if (control_.speed != 0 || !isatty(STDERR_FILENO)) return;
   if (!final && now - progress_wall_us_ < 250000) return;
@@ -195,37 +198,12 @@ void Runner::progress(bool final) {
 }
 
 int Runner::run() {
-  const int64_t kMaxWaitUs = 50000;  // answer the network at least this often
-  while (!stop_) {
-    if (quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_) break;
-    if (control_.paused) {
-      anchor_paused_ = true;
-      serve(kMaxWaitUs);
-      continue;
-    }
-    if (control_.speed > 0) {
-      // Real time (or a multiple): step when the wall clock says so.
-      const uint64_t now = monotonic_us();
-      if (anchor_paused_ || anchor_speed_ != control_.speed) {
-        anchor_wall_us_ = now;
-        anchor_sim_ = world_->time();
-        anchor_speed_ = control_.speed;
-        anchor_paused_ = false;
-      }
-      const double due = double(anchor_wall_us_) + (world_->time() - anchor_sim_) / control_.speed * 1e6;
-      if (double(now) < due) {
-        serve(std::min<int64_t>(kMaxWaitUs, int64_t(due - double(now)) + 1));
-        continue;
-      }
-      serve(0);
-    } else {
-      anchor_paused_ = true;
-      serve(0);
-    }
-    if (stop_ || control_.paused) continue;
-    step(1);
-    progress(false);
-  }
+  LoopParts parts;
+  parts.time_s = [this] { return world_->time(); };
+  parts.serve = [this](int64_t wait_us) { serve(wait_us); };
+  parts.step = [this] { step(1); };
+  parts.done = [this] { return quit_time_ > 0 && world_->time() + 1e-9 >= quit_time_; };
+  run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
   progress(true);
   if (!options_.snapshot.empty()) {
     std::string err;

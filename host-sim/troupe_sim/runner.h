@@ -11,7 +11,9 @@
 #include "host-sim/sim/controller_host.h"
 #include "host-sim/sim/trajectory_log.h"
 #include "host-sim/sim/world.h"
+#include "host-sim/sim_control/pacing.h"
 #include "host-sim/troupe_sim/emulation.h"
+#include "host-sim/troupe_sim/emulation_tcp.h"
 #include "host-sim/troupe_sim/options.h"
 #include "host-sim/troupe_sim/sim_server.h"
 #include "runtime/node.h"
@@ -42,6 +44,8 @@ class Runner {
   Node& node() { return *nodes_.front(); }
   /// The robots presented as hardware (--emulate).
   const Emulation& emulation() const { return emulation_; }
+  /// The robots served as Pioneers on TCP (--p2os-tcp).
+  const P2osTcp& p2os_tcp() const { return p2os_tcp_; }
 
  private:
   void step(uint32_t n);
@@ -58,6 +62,7 @@ class Runner {
   std::vector<std::unique_ptr<Node>> nodes_;
   std::vector<SimServer*> servers_;  // owned by their nodes
   Emulation emulation_;
+  P2osTcp p2os_tcp_;
   // The emulated devices' clock, us: it runs at the simulation's speed in
   // real-time mode (a SIP every 100 ms of simulated time) and at wall speed
   // while paused or running fast, so the devices keep answering their
@@ -68,15 +73,7 @@ class Runner {
   double quit_time_ = 0;
   double next_snapshot_ = 0;
   std::atomic<bool> stop_{false};
-  // Real-time pacing: simulated time `anchor_sim_` was reached at wall time
-  // `anchor_wall_us_` (re-anchored on resume and speed changes).
-  uint64_t anchor_wall_us_ = 0;
-  double anchor_sim_ = 0;
-  double anchor_speed_ = -1;
-  bool anchor_paused_ = true;
-  // Real-time factor over the last second or so.
-  uint64_t rtf_wall_us_ = 0;
-  double rtf_sim_ = 0;
+  RateMeter rate_;
   uint64_t progress_wall_us_ = 0;
   bool progress_shown_ = false;
 };

@@ -115,7 +115,7 @@ void SimServer::on_request(DeviceId id, const wire::Message& req, RequestToken t
   const uint8_t sub = req.header()->subtype();
   switch (d->kind) {
     case Kind::Simulation:
-      return simulation_request(req, token);
+      return answer_simulation_request(*node_, control_, req, token, *this);
     case Kind::Position:
       return position_request(*d, req, token);
     case Kind::Map:
@@ -235,62 +235,35 @@ void SimServer::ranger_request(const Device& d, const wire::Message& req, Reques
   Driver::on_request(d.id, req, token);
 }
 
-void SimServer::simulation_request(const wire::Message& req, RequestToken token) {
-  using Sub = wire::SimulationReqSub;
-  switch (Sub(req.header()->subtype())) {
-    case Sub::Pause:
-    case Sub::Resume:
-    case Sub::GetClock:
-    case Sub::Step:
-    case Sub::SetSpeed:
-      return answer_clock_request(*node_, control_, req, token, [this] { return now(); });
-    case Sub::GetPose:
-    case Sub::SetPose: {
-      const bool set = Sub(req.header()->subtype()) == Sub::SetPose;
-      const flatbuffers::String* name =
-          set ? (req.body_as_SimPose() ? req.body_as_SimPose()->name() : nullptr)
-              : (req.body_as_SimModel() ? req.body_as_SimModel()->name() : nullptr);
-      if (name == nullptr) return node_->nack(token, ErrorCode::BadArgument, "needs a model name");
-      const std::string model = name->str();
-      if (auto robot = world_.find_robot(model)) {
-        if (set) {
-          const wire::Pose2d* p = req.body_as_SimPose()->pose();
-          if (p == nullptr) return node_->nack(token, ErrorCode::BadArgument, "needs a pose");
-          world_.set_pose(*robot, {p->x(), p->y(), p->a()});
-          world_.refresh_sensors();
-          return node_->ack(token);
-        }
-        const Pose& p = world_.state(*robot).pose;
-        auto& b = node_->begin();
-        wire::Pose2d pose(float(p.x), float(p.y), float(p.a));
-        auto body = wire::CreateSimPose(b, b.CreateString(model), &pose);
-        return node_->ack(token, wire::Body::SimPose, body.Union());
-      }
-      for (const StaticDesc& s : world_.desc().statics) {
-        if (s.name != model || s.name.empty()) continue;
-        if (set)
-          return node_->nack(token, ErrorCode::BadArgument,
-                             "'" + model + "' is a static model; it cannot move");
-        auto& b = node_->begin();
-        wire::Pose2d pose(float(s.pose.x), float(s.pose.y), float(s.pose.a));
-        auto body = wire::CreateSimPose(b, b.CreateString(model), &pose);
-        return node_->ack(token, wire::Body::SimPose, body.Union());
-      }
-      return node_->nack(token, ErrorCode::BadArgument, "no model named '" + model + "'");
-    }
-    case Sub::Reset:
-      if (control_.reset) control_.reset();
-      return ack_clock(*node_, control_, token, now());
-    case Sub::StartPlayer:
-    case Sub::StopPlayer:
-    case Sub::GetGame:
-      // A Stage world has no game and no player plugins (RoboCup mode has:
-      // troupe-robocup --serve).
-      return node_->nack(token, ErrorCode::Unsupported, "troupe-sim has no game and no player plugins");
-    case Sub::Models:
-      return models_request(token);
+bool SimServer::get_pose(const std::string& name, Pose& pose, bool& has_velocity, Pose&, std::string& error) {
+  has_velocity = false;
+  if (auto robot = world_.find_robot(name)) {
+    pose = world_.state(*robot).pose;
+    return true;
   }
-  node_->nack(token, ErrorCode::Unsupported, "unknown simulation request");
+  for (const StaticDesc& s : world_.desc().statics) {
+    if (s.name != name || s.name.empty()) continue;
+    pose = s.pose;
+    return true;
+  }
+  error = "no model named '" + name + "'";
+  return false;
+}
+
+bool SimServer::set_pose(const std::string& name, const Pose& pose, const Pose*, std::string& error) {
+  if (auto robot = world_.find_robot(name)) {
+    world_.set_pose(*robot, pose);
+    world_.refresh_sensors();
+    return true;
+  }
+  for (const StaticDesc& s : world_.desc().statics) {
+    if (s.name == name && !s.name.empty()) {
+      error = "'" + name + "' is a static model; it cannot move";
+      return false;
+    }
+  }
+  error = "no model named '" + name + "'";
+  return false;
 }
 
 }  // namespace troupe::sim

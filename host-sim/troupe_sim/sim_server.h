@@ -14,12 +14,13 @@
 
 #include "host-sim/sim/world.h"
 #include "host-sim/sim_control/sim_control.h"
+#include "host-sim/sim_control/sim_requests.h"
 #include "runtime/driver.h"
 #include "runtime/node.h"
 
 namespace troupe::sim {
 
-class SimServer final : public Driver {
+class SimServer final : public Driver, private SimulationModels {
  public:
   /// `only`: serve just this robot, as robot 0 (--port-per-robot); -1: all.
   SimServer(World& world, SimControl& control, int only = -1);
@@ -58,11 +59,15 @@ class SimServer final : public Driver {
   void publish_power(const Device& d);
   void publish_clock(const Device& d);
   void publish_poses(const Device& d);
-  SimTime now() const { return {world_.time(), world_.steps()}; }
-  void simulation_request(const wire::Message& request, RequestToken token);
+  // simulation:0 (sim_requests.h): robots move, static models only tell
+  // where they are.
+  SimTime now() const override { return {world_.time(), world_.steps()}; }
+  bool get_pose(const std::string& name, Pose& pose, bool& has_velocity, Pose& velocity,
+                std::string& error) override;
+  bool set_pose(const std::string& name, const Pose& pose, const Pose* velocity, std::string& error) override;
+  flatbuffers::Offset<wire::SimModelList> models(flatbuffers::FlatBufferBuilder& b) override;
   void position_request(Device& d, const wire::Message& request, RequestToken token);
   void ranger_request(const Device& d, const wire::Message& request, RequestToken token);
-  void models_request(RequestToken token);
   void map_request(const Device& d, const wire::Message& request, RequestToken token);
 
   World& world_;

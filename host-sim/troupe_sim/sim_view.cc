@@ -17,8 +17,7 @@ namespace {
 constexpr uint64_t kMaxTileCells = 512 * 512;
 }  // namespace
 
-void SimServer::models_request(RequestToken token) {
-  auto& b = node_->begin();
+flatbuffers::Offset<wire::SimModelList> SimServer::models(flatbuffers::FlatBufferBuilder& b) {
   std::vector<flatbuffers::Offset<wire::SimModelInfo>> models;
   models.reserve(world_.robot_count());
   for (RobotId r = 0; r < world_.robot_count(); ++r) {
@@ -26,8 +25,7 @@ void SimServer::models_request(RequestToken token) {
     models.push_back(wire::CreateSimModelInfo(b, b.CreateString(desc.name), uint16_t(r), float(desc.size.x),
                                               float(desc.size.y), desc.look.color));
   }
-  auto body = wire::CreateSimModelList(b, b.CreateVector(models));
-  node_->ack(token, wire::Body::SimModelList, body.Union());
+  return wire::CreateSimModelList(b, b.CreateVector(models));
 }
 
 void SimServer::publish_poses(const Device& d) {

@@ -4,77 +4,36 @@
 #include <signal.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 
 #include "host-sim/viewer/view_server.h"
 #include "runtime/log.h"
 #include "wire/address.h"
-
-namespace {
-
-const char* kUsage =
-    "usage: troupe-view HOST[:PORT] [options]\n"
-    "\n"
-    "Serves the browser viewer bridged to the node at HOST[:PORT] (default port 6665)\n"
-    "and prints its URL. The page shows the node's devices: laser scans, odometry\n"
-    "trails, the map of a map device; with troupe-sim, the whole world.\n"
-    "\n"
-    "options:\n"
-    "  --http-port P     HTTP port (default 6680; 0: any free port)\n"
-    "  --listen ADDR     address to serve the page on (default 127.0.0.1)\n"
-    "  --root DIR        folder with the page's files (default: viewer/ beside this program)\n";
-
-bool port_number(const char* text, uint16_t& out) {
-  char* end = nullptr;
-  const long v = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || v < 0 || v > 65535) return false;
-  out = uint16_t(v);
-  return true;
-}
-
-}  // namespace
+#include "wire/cli/args.h"
 
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-view");
   troupe::viewer::ViewOptions options;
   options.web_root = troupe::viewer::default_web_root();
   std::string node;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "-h" || a == "--help") {
-      std::printf("%s", kUsage);
-      return 0;
-    } else if (a == "--http-port" && has_value) {
-      if (!port_number(argv[++i], options.http_port)) {
-        std::fprintf(stderr, "troupe-view: --http-port: not a port number (0..65535): %s\n", argv[i]);
-        return 2;
-      }
-    } else if (a == "--listen" && has_value) {
-      options.listen = argv[++i];
-    } else if (a == "--root" && has_value) {
-      options.web_root = argv[++i];
-    } else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "troupe-view: unknown option or missing value: %s\n\n%s", a.c_str(), kUsage);
-      return 2;
-    } else if (node.empty()) {
-      node = a;
-    } else {
-      std::fprintf(stderr, "troupe-view: one node only; also got %s\n", a.c_str());
-      return 2;
-    }
-  }
-  if (node.empty()) {
-    std::fprintf(stderr, "troupe-view: which node? (HOST[:PORT])\n\n%s", kUsage);
-    return 2;
-  }
+  auto app = troupe::cli::make_app(
+      "troupe view",
+      {"troupe view HOST[:PORT] [--http-port P] [--listen ADDR] [--root DIR]",
+       "Serves the browser viewer bridged to the node at HOST[:PORT] (default port 6665)\n"
+       "and prints its URL. The page shows the node's devices: laser scans, odometry\n"
+       "trails, the map of a map device; with troupe-sim, the whole world.\n",
+       {"troupe view localhost", "troupe view robot7.local:6670 --http-port 8080 --listen 0.0.0.0"}});
+  app->add_option("HOST", node, "HOST[:PORT]")->required();
+  troupe::cli::add_port(*app, "--http-port", options.http_port, "HTTP port (default 6680; 0: any free port)");
+  app->add_option("--listen", options.listen, "address to serve the page on (default 127.0.0.1)")
+      ->type_name("ADDR");
+  app->add_option("--root", options.web_root,
+                  "folder with the page's files (default: ../share/troupe/viewer beside this program)")
+      ->type_name("DIR");
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   troupe::wire::HostPort hp;
   std::string error;
-  if (!troupe::wire::parse_host(node, hp, error)) {
-    std::fprintf(stderr, "troupe-view: %s\n", error.c_str());
-    return 2;
-  }
+  if (!troupe::wire::parse_host(node, hp, error)) return troupe::cli::usage_error(*app, error);
   options.node_host = hp.host;
   options.node_port = hp.port;
 

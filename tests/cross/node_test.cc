@@ -68,7 +68,7 @@ TEST(CrossNode, ArmhfCoreServesAnEmptyDeviceList) {
 }
 
 // The diffbot-can board's real odrive_can driver, cross-built for arm64,
-// drives ODrive axes emulated on the host: troupe-odrive-emu runs the node
+// drives ODrive axes emulated on the host: troupe-emulate-odrive runs the node
 // (under qemu-user) with a socketpair for the CAN bus as descriptor 3. Only
 // little-endian targets: a can_frame's id is in the byte order of the
 // machine, which a real bus shares with its node but this socketpair does not.

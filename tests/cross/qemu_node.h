@@ -20,7 +20,7 @@ class QemuNode {
   QemuNode& operator=(const QemuNode&) = delete;
 
   /// How to start: a target library to preload, and a host program that
-  /// runs the node as its child (e.g. {"troupe-odrive-emu", "--"}).
+  /// runs the node as its child (e.g. {"troupe-emulate-odrive", "--"}).
   struct Extras {
     std::string preload;
     std::vector<std::string> wrapper;

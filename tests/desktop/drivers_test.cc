@@ -50,6 +50,7 @@ class Probe : public Driver {
       }
     } else if (const wire::LocalizeState* l = m.body_as_LocalizeState()) {
       ++localize_count;
+      lost_count += l->lost() ? 1 : 0;
       float total = 0;
       for (const wire::Hypothesis* h : *l->hypotheses()) total += h->weight();
       weights_ok = weights_ok && total > 0.99f && total < 1.01f;
@@ -68,7 +69,7 @@ class Probe : public Driver {
   using Driver::node_;
 
   std::map<uint64_t, Pose2> truth, estimates, fused;
-  size_t localize_count = 0, scans = 0;
+  size_t localize_count = 0, lost_count = 0, scans = 0;
   bool weights_ok = true, fused_var_ok = true;
   float top_weight = 0;
   std::vector<wire::Kind> replies;
@@ -259,6 +260,82 @@ TEST(DesktopDrivers, RequestsToMapAndLocalize) {
   ASSERT_FALSE(probe.estimates.empty());
   EXPECT_LT(desktop::distance(probe.estimates.rbegin()->second, probe.truth.rbegin()->second), 0.15);
   node.shutdown();
+}
+
+// The robot's node restarts while mcl runs on the desktop: the robot stands
+// still for 5 s while it reboots, then its odometry starts again from its
+// origin (or, for a source that starts elsewhere, from any pose, caught by
+// odom_max_speed), while the timestamps run on. mcl must not take the jump
+// as motion: the estimate stays with the robot and mcl never says it is
+// lost. (Taken as motion, the jump carries the belief metres away.)
+TEST(DesktopDrivers, MclIgnoresTheOdometryJumpOfARestartedRobot) {
+  struct Case {
+    const char* what;
+    Pose2 restart_at;  // the odometry's first pose after the restart
+    const char* mcl_extra;
+  };
+  const Case cases[] = {
+      {"reset to its origin", {0, 0, 0}, ""},
+      {"restarted elsewhere, speed bound", {3.0, -2.0, 1.0}, R"(, "odom_max_speed": 2.0)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    World w = make_world();
+    std::string json = desktop_config(
+        w, std::string(R"(, "initial_x": 1.5, "initial_y": 0.5, "initial_var_xy": 0.01)") + c.mcl_extra);
+    // The log's devices are fed by hand here: its replay never starts.
+    json.replace(json.find("\"start_delay\": 0.1"), 18, "\"start_delay\": 3000");
+    LoadedConfig cfg;
+    std::string error;
+    ASSERT_TRUE(load(w.dir, json, cfg, error)) << error;
+    Node node(node_options(*cfg.root));
+    ASSERT_TRUE(build_node(node, cfg, error)) << error;
+    auto owned = std::make_unique<Probe>();
+    Probe& probe = *owned;
+    ASSERT_TRUE(node.add_driver(std::move(owned), {}, error)) << error;
+    DeviceId odom = node.find_device(wire::Address(0, uint16_t(wire::Interface::Position2d), 0));
+    DeviceId ranger = node.find_device(wire::Address(0, uint16_t(wire::Interface::Ranger), 0));
+    // mcl fetches its map through the node's loop.
+    auto ready = std::chrono::steady_clock::now() + std::chrono::milliseconds(300);
+    while (std::chrono::steady_clock::now() < ready) node.poll(5'000);
+
+    desktop::OccupancyGrid map = desktop::testing::make_test_map();
+    desktop::testing::TestLaser laser;
+    std::vector<Pose2> route = desktop::testing::test_route(0.2);
+    route.resize(std::min<size_t>(route.size(), 120));
+    const size_t k = route.size() / 2;  // the restart, while standing at route[k - 1]
+    uint64_t t = 1'000'000;
+    auto feed = [&](const Pose2& truth, const Pose2& odometry) {
+      auto& b = node.begin();
+      wire::Pose2d pose(float(odometry.x), float(odometry.y), float(odometry.a));
+      auto body = wire::CreatePosition2dState(b, &pose);
+      node.publish(odom, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(),
+                   t);
+      std::vector<float> r = desktop::testing::cast_scan(map, truth, laser);
+      std::vector<uint16_t> mm(r.size());
+      for (size_t i = 0; i < r.size(); ++i) mm[i] = uint16_t(std::lround(r[i] * 1000));
+      auto& b2 = node.begin();
+      auto scan = wire::CreateRangerScan(b2, b2.CreateVector(mm), 0.001f, float(laser.start_angle()),
+                                         float(laser.angular_res()), float(laser.max_range));
+      node.publish(ranger, uint8_t(wire::RangerDataSub::Scan), wire::Body::RangerScan, scan.Union(), t);
+      auto est = probe.estimates.find(t);
+      EXPECT_NE(est, probe.estimates.end()) << "no estimate at " << t << " us";
+      return est == probe.estimates.end() ? 1e9 : desktop::distance(est->second, truth);
+    };
+    // The odometry is the route itself (a good robot), then a new origin.
+    double worst = 0;
+    for (size_t i = 0; i < k; ++i, t += 200'000) worst = std::max(worst, feed(route[i], route[i]));
+    t += 5'000'000;  // rebooting
+    const Pose2 stood = route[k - 1];
+    for (size_t i = k - 1; i < route.size(); ++i, t += 200'000) {
+      Pose2 restarted = desktop::compose(c.restart_at, desktop::relative(stood, route[i]));
+      worst = std::max(worst, feed(route[i], restarted));
+    }
+    EXPECT_LT(worst, 0.25) << "the estimate strayed " << worst << " m from the robot";
+    EXPECT_EQ(probe.lost_count, 0u);
+    EXPECT_EQ(probe.localize_count, route.size() + 1);
+    node.shutdown();
+  }
 }
 
 TEST(DesktopDrivers, ConfigMistakesAreReportedAndTheNodeDoesNotStart) {

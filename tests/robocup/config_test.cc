@@ -1,5 +1,5 @@
-// The world and robot file format: statements, blocks, quotes, includes,
-// and errors that say file and line.
+// RoboCup worlds as Stage world files (models to statements), the console's
+// commands, and errors that say file and line.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -14,59 +14,94 @@ namespace {
 std::vector<Statement> parse_ok(const std::string& text) {
   std::vector<Statement> st;
   std::string error;
-  EXPECT_TRUE(parse_config_text(text, "t.world", st, error)) << error;
+  EXPECT_TRUE(parse_stage_text(text, "t.world", st, error)) << error;
   return st;
 }
 
 std::string parse_error(const std::string& text) {
   std::vector<Statement> st;
   std::string error;
-  EXPECT_FALSE(parse_config_text(text, "t.world", st, error));
+  EXPECT_FALSE(parse_stage_text(text, "t.world", st, error));
   return error;
 }
 
-TEST(ConfigText, StatementsBlocksAndQuotes) {
+TEST(StageWorld, ModelsBecomeStatementsWithTheirLines) {
   auto st = parse_ok(
       "# a comment\n"
-      "robot r1 file=\"my robots/a.robot\" team=blue  # trailing\n"
-      "kicker reach=0.03 {\n"
-      "  state rest { shape rect x=0.2 }\n"
-      "  state kick accel=300; state other\n"
-      "}\n");
+      "interval_sim 20 seed 4\n"
+      "define bot robocup_robot ( shape ( kind \"rect\" length 0.4 width 0.3 z [0 0.5] ) )\n"
+      "bot ( name \"r1\" team \"blue\" pose [1 2 0 90]  # trailing\n"
+      "  kicker ( reach 0.03\n"
+      "    state ( name \"rest\" shape ( kind \"rect\" x 0.2 ) )\n"
+      "    state ( name \"kick\" accel 300 ) state ( name \"other\" )\n"
+      "  )\n"
+      "  sensor_plugin ( plugin \"camera\" name \"front\" fov 1 )\n"
+      ")\n");
   ASSERT_EQ(st.size(), 2u);
-  EXPECT_EQ(st[0].keyword, "robot");
-  EXPECT_EQ(st[0].args, std::vector<std::string>{"r1"});
-  ASSERT_EQ(st[0].options.size(), 2u);
-  EXPECT_EQ(st[0].options[0].second, "my robots/a.robot");
-  EXPECT_EQ(st[0].line, 2);
-  ASSERT_EQ(st[1].children.size(), 3u);
-  EXPECT_EQ(st[1].children[0].children[0].keyword, "shape");
-  EXPECT_EQ(st[1].children[2].args[0], "other");
-  EXPECT_EQ(st[1].children[2].line, 5);
+  EXPECT_EQ(st[0].keyword, "world");
+  EXPECT_EQ(st[0].options[0], (std::pair<std::string, std::string>{"cycle", "0.02"}));
+  EXPECT_EQ(st[1].keyword, "robot");
+  EXPECT_EQ(st[1].args, std::vector<std::string>{"r1"});
+  EXPECT_EQ(st[1].line, 4);
+  const Options o = st[1].reader();
+  EXPECT_EQ(o.entries()[1].first, "x");
+  EXPECT_EQ(std::stod(o.entries()[3].second), kPi / 2) << "pose degrees become radians";
+  ASSERT_EQ(st[1].children.size(), 3u);  // the define's shape, the kicker, the sensor
+  EXPECT_EQ(st[1].children[0].keyword, "shape");
+  EXPECT_EQ(st[1].children[0].args[0], "rect");
+  EXPECT_EQ(st[1].children[0].options.back(), (std::pair<std::string, std::string>{"z", "0,0.5"}));
+  const Statement& kicker = st[1].children[1];
+  ASSERT_EQ(kicker.children.size(), 3u);
+  EXPECT_EQ(kicker.children[0].children[0].keyword, "shape");
+  EXPECT_EQ(kicker.children[2].args[0], "other");
+  EXPECT_EQ(kicker.children[2].line, 7);
+  EXPECT_EQ(st[1].children[2].keyword, "sensor");
+  EXPECT_EQ(st[1].children[2].args[0], "camera");
 }
 
-TEST(ConfigText, ErrorsNameFileAndLine) {
-  EXPECT_EQ(parse_error("a\nb {\n c\n"), "t.world:4: missing '}'");
-  EXPECT_EQ(parse_error("a\n}\n"), "t.world:2: '}' without '{'");
-  EXPECT_EQ(parse_error("a x=\"open\n"), "t.world:1: unterminated quote");
-  EXPECT_EQ(parse_error("a =3\n"), "t.world:1: '=3' has no key");
+TEST(StageWorld, ErrorsNameFileAndLine) {
+  EXPECT_NE(parse_error("a (\n b 1\n").find("t.world:"), std::string::npos);
+  EXPECT_EQ(parse_error("\ngoal ( x 1 )\n"),
+            "t.world:2: 'goal' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
+  EXPECT_EQ(parse_error("robocup_robot ( team \"blue\" )\n"), "t.world:1: a robocup_robot needs a name");
+  EXPECT_EQ(parse_error("robocup_robot ( name \"r\" pose [1 2 3] )\n"), "t.world:1: pose: expected [x y z a]");
+  EXPECT_EQ(parse_error("robocup_robot ( name \"r\" wheel ( ) )\n"),
+            "t.world:1: 'wheel' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
 }
 
-TEST(ConfigText, IncludesAreRelativeToTheIncludingFile) {
+TEST(StageWorld, IncludesAreRelativeToTheIncludingFile) {
   const std::string dir = TROUPE_BINARY_DIR "/tests/robocup";
-  std::ofstream(dir + "/inc_child.world") << "field length=10\n";
+  std::ofstream(dir + "/inc_child.world") << "robocup_field ( length 10 )\n";
   std::ofstream(dir + "/inc_loop.world") << "include \"inc_loop.world\"\n";
   std::vector<Statement> st;
   std::string error;
-  ASSERT_TRUE(parse_config_text("include \"inc_child.world\"\nball\n", dir + "/main.world", st, error))
+  ASSERT_TRUE(parse_stage_text("include \"inc_child.world\"\nball ( )\n", dir + "/main.world", st, error))
       << error;
   ASSERT_EQ(st.size(), 2u);
   EXPECT_EQ(st[0].keyword, "field");
   EXPECT_EQ(st[0].file, dir + "/inc_child.world");
-  EXPECT_FALSE(parse_config_text("include \"inc_loop.world\"\n", dir + "/main.world", st, error));
-  EXPECT_NE(error.find("deeper than 8"), std::string::npos) << error;
-  EXPECT_FALSE(parse_config_text("include \"absent.world\"\n", dir + "/main.world", st, error));
-  EXPECT_NE(error.find("main.world:1: include:"), std::string::npos) << error;
+  EXPECT_FALSE(parse_stage_text("include \"inc_loop.world\"\n", dir + "/main.world", st, error));
+  EXPECT_NE(error.find("inc_loop.world"), std::string::npos) << error;
+  EXPECT_FALSE(parse_stage_text("include \"absent.world\"\n", dir + "/main.world", st, error));
+  EXPECT_NE(error.find("main.world:1:"), std::string::npos) << error;
+}
+
+TEST(Commands, OneLineEachWithOptions) {
+  std::vector<Statement> st;
+  std::string error;
+  ASSERT_TRUE(parse_commands("# hi\nstart r1 goalkeeper policy=block\nrun 2; score\n", "script", st, error))
+      << error;
+  ASSERT_EQ(st.size(), 3u);
+  EXPECT_EQ(st[0].args, (std::vector<std::string>{"r1", "goalkeeper"}));
+  EXPECT_EQ(st[0].options[0], (std::pair<std::string, std::string>{"policy", "block"}));
+  EXPECT_EQ(st[2].keyword, "score");
+  EXPECT_EQ(st[2].line, 3);
+  EXPECT_FALSE(parse_commands("run {\n", "script", st, error));
+  EXPECT_EQ(error, "script:1: '{': commands take no block");
+  EXPECT_FALSE(parse_commands("start a x=\"open\n", "script", st, error));
+  EXPECT_EQ(error, "script:1: unterminated quote");
+  EXPECT_FALSE(parse_commands("a =3\n", "script", st, error));
+  EXPECT_EQ(error, "script:1: '=3' has no key");
 }
 
 std::string world_error(const std::string& text) {
@@ -76,39 +111,44 @@ std::string world_error(const std::string& text) {
   return error;
 }
 
+std::string robot_error(const std::string& body) {
+  return world_error("robocup_robot ( name \"r\"\n" + body + ")\n");
+}
+
 TEST(WorldFile, BadValuesAndUnknownKeysSayWhere) {
-  EXPECT_NE(world_error("world cycle=0\n").find("test.world:1: world: option 'cycle': must be in"),
+  EXPECT_NE(world_error("interval_sim 0\n").find("test.world:1: world: option 'cycle': must be in"),
             std::string::npos);
-  EXPECT_NE(world_error("\nfield lenght=9\n").find("test.world:2: field: unknown option 'lenght'"),
+  EXPECT_NE(world_error("\nrobocup_field ( lenght 9 )\n").find("test.world:2: field: unknown option 'lenght'"),
             std::string::npos);
-  EXPECT_NE(world_error("ball radius=big\n").find("option 'radius': expected a number, got 'big'"),
+  EXPECT_NE(world_error("ball ( radius \"big\" )\n").find("option 'radius': expected a number, got 'big'"),
             std::string::npos);
-  EXPECT_NE(world_error("robot r team=red {\n shape circle r=0.2\n}\n").find("expected one of blue, yellow"),
+  EXPECT_NE(world_error("robocup_robot ( name \"r\" team \"red\" shape ( kind \"circle\" r 0.2 ) )\n")
+                .find("expected one of blue, yellow"),
             std::string::npos);
-  EXPECT_NE(world_error("goal x=1\n").find("unknown statement"), std::string::npos);
-  EXPECT_NE(world_error("field border=0.2\n").find("room for the goals"), std::string::npos);
-  EXPECT_NE(
-      world_error("robot r {\n shape circle r=0.2\n}\nrobot r {\n shape circle r=0.2\n}\n").find("twice"),
-      std::string::npos);
+  EXPECT_NE(world_error("robocup_field ( border 0.2 )\n").find("room for the goals"), std::string::npos);
+  const std::string r = "robocup_robot ( name \"r\" shape ( kind \"circle\" r 0.2 ) )\n";
+  EXPECT_NE(world_error(r + r).find("twice"), std::string::npos);
 }
 
 TEST(RobotFile, ShapesKickerAndPluginsAreRead) {
   WorldSpec spec;
   std::string error;
-  ASSERT_TRUE(test::world_from_text("robot p team=yellow x=1 y=2 a=0.5 {" + test::pioneer_block(R"(
-  shape triangle points=0,0,0.1,0,0,0.1 z=0.5,0.7
-  shape ellipse rx=0.2 ry=0.1 x=-0.1
-  motion diff_drive max_speed=1
-  sensor camera fov=1 x=0.2 z=0.5 period=2
-  sensor camera name=back a=3.14
-  player striker aim_y=0.3
-})"),
+  ASSERT_TRUE(test::world_from_text(test::robot("p", "yellow", 1, 2, 0.5, test::pioneer_block(R"(
+  shape ( kind "triangle" points [0 0 0.1 0 0 0.1] z [0.5 0.7] )
+  shape ( kind "ellipse" rx 0.2 ry 0.1 x -0.1 )
+  motion_plugin ( plugin "diff_drive" max_speed 1 )
+  sensor_plugin ( plugin "camera" fov 1 x 0.2 z 0.5 period 2 )
+  sensor_plugin ( plugin "camera" name "back" a 3.14 )
+  player ( plugin "striker" aim_y 0.3 )
+)")),
                                     spec, error))
       << error;
   ASSERT_EQ(spec.robots.size(), 1u);
   const RobotEntry& r = spec.robots[0];
   EXPECT_EQ(r.team, Team::Yellow);
-  EXPECT_EQ(r.start, (Pose2{1, 2, 0.5}));
+  EXPECT_EQ(r.start.x, 1);
+  EXPECT_EQ(r.start.y, 2);
+  EXPECT_NEAR(r.start.a, 0.5, 1e-15);
   ASSERT_EQ(r.spec.shapes.size(), 3u);
   EXPECT_EQ(r.spec.shapes[1].kind, ShapeKind::Polygon);
   EXPECT_EQ(r.spec.shapes[1].z_min, 0.5);
@@ -128,22 +168,22 @@ TEST(RobotFile, ShapesKickerAndPluginsAreRead) {
 }
 
 TEST(RobotFile, BadShapesAndKickersSayWhere) {
-  auto robot_error = [](const std::string& body) { return world_error("robot r {\n" + body + "}\n"); };
-  EXPECT_NE(robot_error("shape hexagon r=1\n").find("test.world:2: shape: unknown shape 'hexagon'"),
+  const std::string circle = "shape ( kind \"circle\" r 0.2 )\n";
+  EXPECT_NE(robot_error("shape ( kind \"hexagon\" r 1 )\n").find("test.world:2: shape: unknown shape 'hexagon'"),
             std::string::npos);
-  EXPECT_NE(robot_error("shape polygon points=0,0,1,1,1,0,0,1\n").find("not strictly convex"),
+  EXPECT_NE(robot_error("shape ( kind \"polygon\" points [0 0 1 1 1 0 0 1] )\n").find("not strictly convex"),
             std::string::npos);
-  EXPECT_NE(robot_error("shape rect length=1\n").find("a rect needs length= and width="), std::string::npos);
-  EXPECT_NE(robot_error("shape circle r=0.2 z=0.5,0.1\n").find("option 'z'"), std::string::npos);
-  EXPECT_NE(
-      robot_error("shape circle r=0.2\nkicker {\n state rest\n}\n").find("a rest state and a kick state"),
-      std::string::npos);
-  EXPECT_NE(
-      robot_error("shape circle r=0.2\nkicker {\n state a next=c\n state b\n}\n").find("no state named 'c'"),
-      std::string::npos);
-  EXPECT_NE(robot_error("mass -3\nshape circle r=0.2\n").find("mass > 0"), std::string::npos);
-  EXPECT_NE(robot_error("motion\nshape circle r=0.2\n").find("name the plugin"), std::string::npos);
-  EXPECT_NE(world_error("robot r {\n}\n").find("at least one shape"), std::string::npos);
+  EXPECT_NE(robot_error("shape ( kind \"rect\" length 1 )\n").find("a rect needs length= and width="),
+            std::string::npos);
+  EXPECT_NE(robot_error("shape ( kind \"circle\" r 0.2 z [0.5 0.1] )\n").find("option 'z'"), std::string::npos);
+  EXPECT_NE(robot_error(circle + "kicker ( state ( name \"rest\" ) )\n").find("a rest state and a kick state"),
+            std::string::npos);
+  EXPECT_NE(robot_error(circle + "kicker ( state ( name \"a\" next \"c\" ) state ( name \"b\" ) )\n")
+                .find("no state named 'c'"),
+            std::string::npos);
+  EXPECT_NE(robot_error("mass -3\n" + circle).find("mass > 0"), std::string::npos);
+  EXPECT_NE(robot_error("motion_plugin ( )\n" + circle).find("name the plugin"), std::string::npos);
+  EXPECT_NE(robot_error("").find("at least one shape"), std::string::npos);
 }
 
 TEST(Options, TypedGettersReportTheFirstProblem) {

@@ -5,14 +5,14 @@
 #include <numbers>
 
 #include "tests/robocup/serve_fixture.h"
-#include "wire/client/sensor_container.h"
+#include "examples/robocup/sensor_container.h"
 
 namespace troupe::robocup::test {
 namespace {
 
 using client::Client;
 using client::Pose2;
-using client::SensorContainer;
+using examples::SensorContainer;
 using wire::Interface;
 
 constexpr double kPi = std::numbers::pi;
@@ -103,12 +103,12 @@ TEST_F(ContainerTest, GoalFeaturesFollowTheTeam) {
   ASSERT_TRUE(sim_->set_pose("striker", {0, 1, float(kPi)}));
   ASSERT_TRUE(sim_->set_pose("keeper", {0, -2, 0}));
   step();
-  robot.set_team(client::Team::Yellow);  // attacks the blue goal
+  robot.set_team(examples::Team::Yellow);  // attacks the blue goal
   ASSERT_TRUE(robot.feature("goalDistance") && robot.feature("goalBearing"));
   EXPECT_NEAR(robot.feature("goalDistance")->value, std::hypot(4.5, 1.0), 1e-3);
   EXPECT_NEAR(robot.feature("goalBearing")->value, std::atan2(1.0, 4.5), 1e-3);  // to the left
   EXPECT_NEAR(robot.feature("ownGoalDistance")->value, std::hypot(4.5, 1.0), 1e-3);
-  robot.set_team(client::Team::Blue);
+  robot.set_team(examples::Team::Blue);
   EXPECT_NEAR(std::abs(robot.feature("goalBearing")->value), kPi - std::atan2(1.0, 4.5), 1e-3);
 }
 

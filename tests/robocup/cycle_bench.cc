@@ -14,7 +14,7 @@ using namespace troupe::robocup;
 
 namespace {
 
-const std::string kPlugins = TROUPE_BINARY_DIR "/host-sim/robocup/plugins";
+const std::string kPlugins = TROUPE_BINARY_DIR "/lib/troupe";
 const std::string kMatch = TROUPE_SOURCE_DIR "/examples/robocup/match.world";
 
 struct Scene {

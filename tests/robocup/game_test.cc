@@ -11,8 +11,8 @@ namespace {
 std::unique_ptr<Simulation> kicker_world(const std::string& kicker_direction = "0") {
   std::string error;
   std::string robot = test::pioneer_block();
-  robot.replace(robot.find("direction=0"), 11, "direction=" + kicker_direction);
-  auto sim = test::make_sim("ball deceleration=0\nrobot r team=blue x=0 y=0 a=0 {" + robot + "}\n", error);
+  robot.replace(robot.find("direction 0"), 11, "direction " + kicker_direction);
+  auto sim = test::make_sim("ball ( deceleration 0 )\n" + test::robot("r", "blue", 0, 0, 0, robot), error);
   EXPECT_TRUE(sim) << error;
   return sim;
 }
@@ -55,14 +55,13 @@ TEST(Kicker, KicksAlongItsDirection) {
 
 TEST(Broadcast, PlayersHearEachOtherAndTheNearestChases) {
   std::string error;
-  const std::string drive = "  motion diff_drive\n";
+  const std::string drive = "  motion_plugin ( plugin \"diff_drive\" )\n";
   auto sim = test::make_sim(
-      "ball x=-1 y=1 deceleration=100\n"
-      "robot near team=blue x=-1.6 y=1 a=0 {" +
-          test::pioneer_block(drive) +
-          "  player field_player home_x=-3 home_y=1\n}\n"
-          "robot far team=blue x=-3 y=-1.5 a=0 {" +
-          test::pioneer_block(drive) + "  player field_player home_x=-3 home_y=-1.5\n}\n",
+      "ball ( pose [-1 1 0 0] deceleration 100 )\n" +
+          test::robot("near", "blue", -1.6, 1, 0,
+                      test::pioneer_block(drive) + "  player ( plugin \"field_player\" home_x -3 home_y 1 )\n") +
+          test::robot("far", "blue", -3, -1.5, 0,
+                      test::pioneer_block(drive) + "  player ( plugin \"field_player\" home_x -3 home_y -1.5 )\n"),
       error);
   ASSERT_TRUE(sim) << error;
   sim->step();
@@ -78,8 +77,9 @@ TEST(Broadcast, PlayersHearEachOtherAndTheNearestChases) {
 
 TEST(Console, StartsAndStopsPlayersAndReports) {
   std::string error;
-  auto sim = test::make_sim("robot r team=yellow x=-2 y=0 a=3.14159 {" +
-                                test::pioneer_block("  motion diff_drive\n") + "}\nball x=-2.5 y=0\n",
+  auto sim = test::make_sim(test::robot("r", "yellow", -2, 0, 3.14159,
+                                        test::pioneer_block("  motion_plugin ( plugin \"diff_drive\" )\n")) +
+                                "ball ( pose [-2.5 0 0 0] )\n",
                             error);
   ASSERT_TRUE(sim) << error;
   std::vector<std::string> out;

@@ -83,16 +83,16 @@ TEST(KeeperPolicy, EachPolicyDecidesAsDocumented) {
 // ---- In the simulation --------------------------------------------------------
 
 std::unique_ptr<Simulation> keeper_world(const std::string& policy, uint64_t seed = 1,
-                                         double ball_deceleration = 100) {
+                                         double ball_deceleration = 100, const std::string& more = "") {
   std::string error;
-  auto sim = test::make_sim("world seed=" + std::to_string(seed) +
-                                "\nball x=-2 y=1.5 deceleration=" + std::to_string(ball_deceleration) +
-                                "\n"
-                                "robot k team=blue x=-4.15 y=0 a=0 {\n"
-                                "  shape ellipse rx=0.18 ry=0.25 z=0,0.5\n"
-                                "  motion omni_drive radius=0.17 wheel_speed=2.5 wheel_accel=8\n"
-                                "  player goalkeeper latency=0 policy=" +
-                                policy + "\n}\n",
+  auto sim = test::make_sim("seed " + std::to_string(seed) + "\nball ( pose [-2 1.5 0 0] deceleration " +
+                                std::to_string(ball_deceleration) + " )\n" +
+                                test::robot("k", "blue", -4.15, 0, 0,
+                                            "  shape ( kind \"ellipse\" rx 0.18 ry 0.25 z [0 0.5] )\n"
+                                            "  motion_plugin ( plugin \"omni_drive\" radius 0.17 wheel_speed 2.5 "
+                                            "wheel_accel 8 )\n"
+                                            "  player ( plugin \"goalkeeper\" latency 0 policy \"" +
+                                                policy + "\" " + more + " )\n"),
                             error);
   EXPECT_TRUE(sim) << error;
   if (sim) {
@@ -175,7 +175,7 @@ TEST(Goalkeeper, InterceptMeetsARollingBallThatBlockingMisses) {
 
 TEST(Goalkeeper, MixedFollowsNoSinglePolicyButRepeats) {
   auto run = [](const std::string& policy, uint64_t seed) {
-    auto sim = keeper_world(policy + " mix_period=1", seed);
+    auto sim = keeper_world(policy, seed, 100, "mix_period 1");
     return track(*sim, 8);
   };
   const auto mixed = run("mixed", 4);
@@ -189,11 +189,8 @@ TEST(Goalkeeper, MixedFollowsNoSinglePolicyButRepeats) {
 
 TEST(GoalkeeperBench, EveryPolicyFacesTheSameShotsAndTheTableAddsUp) {
   WorldSpec world;
-  std::vector<Statement> st;
   std::string error;
-  ASSERT_TRUE(parse_config_text(standard_bench_world(), "std", st, error) &&
-              read_world(st, "std", world, error))
-      << error;
+  ASSERT_TRUE(parse_world_text(standard_bench_world(), "std", world, error)) << error;
   BenchSettings s;
   s.shots = 12;
   s.seeds = {1};

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "drivers/common_desktop/landmark_model.h"
+#include "host-sim/robocup/api/fiducial_key.h"
 #include "tests/robocup/landmark_fixture.h"
 
 namespace troupe::robocup::test {
@@ -30,30 +31,37 @@ TEST_F(LandmarkMcl, TheLearnedTableHoldsTheFieldsLandmarks) {
   ASSERT_TRUE(table.load(kTable, error)) << error;
   EXPECT_EQ(table.landmarks(), 10u);  // 2 goals, 4 goal posts, 4 corner posts
   EXPECT_EQ(table.poses(), 41u * 25u * 8u);
-  // From the centre spot facing +x, the yellow goal (code 101) is 4.5 m
+  // From the centre spot facing +x, the yellow goal (goal 1) is 4.5 m
   // ahead; between grid nodes and headings the expectation follows.
+  const desktop::LandmarkKey yellow_goal{wire::FiducialKind::Goal, 1};
   double x, y;
-  ASSERT_TRUE(table.expected({0, 0, 0}, table.column(101), x, y));
+  ASSERT_TRUE(table.expected({0, 0, 0}, table.column(yellow_goal), x, y));
   EXPECT_NEAR(x, 4.5, 1e-3);
   EXPECT_NEAR(y, 0.0, 1e-3);
-  ASSERT_TRUE(table.expected({0.1, -0.35, 0.3}, table.column(101), x, y));
+  ASSERT_TRUE(table.expected({0.1, -0.35, 0.3}, table.column(yellow_goal), x, y));
   const double c = std::cos(0.3), s = std::sin(0.3), dx = 4.5 - 0.1, dy = 0.35;
   EXPECT_NEAR(x, c * dx + s * dy, 1e-3);
   EXPECT_NEAR(y, -s * dx + c * dy, 1e-3);
   EXPECT_FALSE(table.expected({20, 0, 0}, 0, x, y));  // off the grid
-  EXPECT_EQ(table.column(7), -1);
+  EXPECT_EQ(table.column({wire::FiducialKind::Generic, 7}), -1);
+  EXPECT_EQ(table.column({wire::FiducialKind::Ball, 0}), -1);  // learned without the ball
+  EXPECT_GE(table.column({wire::FiducialKind::Post, 7}), 0);   // the last corner post
 }
 
 TEST_F(LandmarkMcl, BadTablesAreRefusedWithFileAndLine) {
   desktop::LandmarkTable table;
   std::string error;
-  EXPECT_FALSE(table.parse("troupe-landmarks 2\n", "t", error));
-  EXPECT_EQ(error, "t:1: landmark table version 2, this build reads 1");
-  EXPECT_FALSE(table.parse("troupe-landmarks 1\ngrid 0 0 0 2 2 1\n", "t", error));
+  EXPECT_FALSE(table.parse("troupe-landmarks 1\n", "t", error));
+  EXPECT_EQ(error, "t:1: landmark table version 1, this build reads 2");
+  EXPECT_FALSE(table.parse("troupe-landmarks 2\ngrid 0 0 0 2 2 1\n", "t", error));
   EXPECT_NE(error.find("t:2: grid"), std::string::npos) << error;
-  EXPECT_FALSE(table.parse("troupe-landmarks 1\ngrid 0 0 1 2 2 1\ncodes 1 0\n1 2\n1 x\n", "t", error));
+  EXPECT_FALSE(table.parse("troupe-landmarks 2\ngrid 0 0 1 2 2 1\nlandmarks 1 100\n", "t", error));
+  EXPECT_EQ(error, "t:3: landmarks: '100' is not KIND:ID (kind: ball, goal, post, ...)");
+  EXPECT_FALSE(table.parse("troupe-landmarks 2\ngrid 0 0 1 2 2 1\nlandmarks 1 pole:1\n", "t", error));
+  EXPECT_NE(error.find("'pole:1' is not KIND:ID"), std::string::npos) << error;
+  EXPECT_FALSE(table.parse("troupe-landmarks 2\ngrid 0 0 1 2 2 1\nlandmarks 1 goal:0\n1 2\n1 x\n", "t", error));
   EXPECT_EQ(error, "t:5: 'x' is not a number");
-  EXPECT_FALSE(table.parse("troupe-landmarks 1\ngrid 0 0 1 2 2 1\ncodes 1 0\n1 2\n", "t", error));
+  EXPECT_FALSE(table.parse("troupe-landmarks 2\ngrid 0 0 1 2 2 1\nlandmarks 1 goal:0\n1 2\n", "t", error));
   EXPECT_NE(error.find("ends after 1 of 4 pose lines"), std::string::npos) << error;
   EXPECT_FALSE(table.load(kTable + ".missing", error));
   EXPECT_NE(error.find("cannot open"), std::string::npos) << error;
@@ -93,7 +101,9 @@ TEST_F(LandmarkMcl, GlobalLocalizationConvergesFromFeatures) {
     if (!omni.valid || omni.time_s <= measured_s) continue;
     measured_s = omni.time_s;
     seen.clear();
-    for (const Detection& d : omni.detections) seen.push_back({int32_t(d.kind) * 100 + d.id, d.x, d.y});
+    for (const Detection& d : omni.detections) {
+      if (auto key = fiducial_key(d.kind, d.id)) seen.push_back({{key->kind, key->id}, d.x, d.y});
+    }
     likelihood.set(seen);
     filter.update({odom.odometry.x, odom.odometry.y, odom.odometry.a}, likelihood, rng);
   }

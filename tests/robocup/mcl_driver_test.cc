@@ -103,7 +103,7 @@ TEST_F(MclDriver, RefusesLandmarksWithoutATableAndABadTable) {
   EXPECT_FALSE(build_node(*node_, cfg, error));
   EXPECT_NE(error.find("landmark_table names no table"), std::string::npos) << error;
 
-  std::ofstream(kDir + kTag + ".bad") << "troupe-landmarks 1\ngrid 0 0 1 2 2 1\ncodes 1 100\n1 2\n";
+  std::ofstream(kDir + kTag + ".bad") << "troupe-landmarks 2\ngrid 0 0 1 2 2 1\nlandmarks 1 goal:0\n1 2\n";
   ASSERT_TRUE(load(mcl_config(kDir + kTag + ".bad", R"("position2d:0", "fiducial:0")"), cfg, error));
   Node other{Node::Options{}};
   sim::SimControl control;

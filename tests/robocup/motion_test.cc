@@ -60,12 +60,14 @@ TEST(OmniDrive, MovesInAnyDirectionAndScalesImpossibleCommands) {
   EXPECT_NE(error.find("must not be parallel"), std::string::npos) << error;
 }
 
+const char* kDiffDrive = "  motion_plugin ( plugin \"diff_drive\" max_speed 2 accel 2.5 turn_accel 15 )\n";
+
 // A log of the Pioneer's diff drive driven with random commands.
 std::string recorded_log(uint64_t seed, double seconds) {
   std::string error;
   auto sim = test::make_sim(
-      "referee enabled=0\nrobot r team=blue {" +
-          test::pioneer_block("  motion diff_drive max_speed=2 accel=2.5 turn_accel=15\n") + "}\n",
+      "referee ( enabled 0 )\n" +
+          test::robot("r", "blue", 0, 0, 0, test::pioneer_block(kDiffDrive)),
       error);
   EXPECT_TRUE(sim) << error;
   MotionLogSettings s;
@@ -111,11 +113,10 @@ TEST(LearnedMotion, PredictsADiffDriveFarBetterThanHoldingTheVelocity) {
   EXPECT_NEAR(a.w, b.w, 1e-12);
 
   // As a plugin it drives a robot along nearly the path the diff drive does.
-  std::string world = "referee enabled=0\nball x=0 y=-2\n";
-  world += "robot d team=blue x=-2 y=0 {" +
-           test::pioneer_block("  motion diff_drive max_speed=2 accel=2.5 turn_accel=15\n") + "}\n";
-  world += "robot l team=yellow x=2 y=0 {" +
-           test::pioneer_block("  motion learned_motion model=\"" + path + "\"\n") + "}\n";
+  std::string world = "referee ( enabled 0 )\nball ( pose [0 -2 0 0] )\n";
+  world += test::robot("d", "blue", -2, 0, 0, test::pioneer_block(kDiffDrive));
+  world += test::robot("l", "yellow", 2, 0, 0,
+                       test::pioneer_block("  motion_plugin ( plugin \"learned_motion\" model \"" + path + "\" )\n"));
   auto sim = test::make_sim(world, error);
   ASSERT_TRUE(sim) << error;
   ASSERT_TRUE(sim->problems().empty()) << sim->problems()[0];

@@ -39,15 +39,13 @@ TEST(PluginLoader, EveryFailureNamesThePlugin) {
   PluginLoader loader({test::kPluginDir, test::kBadPluginDir});
   std::string error;
   EXPECT_FALSE(loader.sensor("kamera", error));
-  EXPECT_NE(error.find("sensor plugin 'kamera': not found (no troupe_robocup_kamera.so in"),
-            std::string::npos)
-      << error;
+  EXPECT_NE(error.find("sensor plugin 'kamera': not found (no kamera.so in"), std::string::npos) << error;
+  EXPECT_NE(error.find("$TROUPE_PLUGIN_PATH adds folders"), std::string::npos) << error;
   EXPECT_FALSE(loader.sensor("no_symbol", error));
-  EXPECT_NE(error.find("sensor plugin 'no_symbol': its library has no troupe_robocup_plugin_v1"),
-            std::string::npos)
+  EXPECT_NE(error.find("sensor plugin 'no_symbol': its library has no troupe_plugin_v1"), std::string::npos)
       << error;
   EXPECT_FALSE(loader.sensor("old_api", error));
-  EXPECT_NE(error.find("sensor plugin 'old_api': built for plugin API v2, this simulator speaks v1"),
+  EXPECT_NE(error.find("sensor plugin 'old_api': built for plugin ABI v2, this program speaks v1"),
             std::string::npos)
       << error;
   EXPECT_FALSE(loader.sensor("misnamed", error));
@@ -55,38 +53,51 @@ TEST(PluginLoader, EveryFailureNamesThePlugin) {
   EXPECT_FALSE(loader.sensor("goalkeeper", error));
   EXPECT_NE(error.find("sensor plugin 'goalkeeper': it is a player plugin"), std::string::npos) << error;
   EXPECT_FALSE(loader.motion("../plugins/camera", error));
-  EXPECT_NE(error.find("a plugin name holds only a-z, 0-9 and _"), std::string::npos) << error;
+  EXPECT_NE(error.find("a plugin name holds only letters, digits, _ and -"), std::string::npos) << error;
+  // Controllers share the folder and the ABI: the kind tells them apart.
+  EXPECT_FALSE(loader.player("wander", error));
+  EXPECT_NE(error.find("player plugin 'wander': it is a controller plugin"), std::string::npos) << error;
+  // An interface of another version is refused too.
+  plugin::Loader raw({test::kPluginDir});
+  EXPECT_FALSE(raw.make<SensorPlugin>("camera", TROUPE_PLUGIN_SENSOR, kPluginApiVersion + 7, nullptr, error));
+  EXPECT_NE(error.find("sensor plugin 'camera': built for sensor interface v2, this program speaks v9"),
+            std::string::npos)
+      << error;
 }
 
-TEST(PluginLoader, ThePathComesFromTheEnvironmentAndTheProgramsFolder) {
-  setenv("TROUPE_ROBOCUP_PLUGIN_PATH", "/first:/second", 1);
-  std::vector<std::string> path = PluginLoader::default_plugin_path();
-  unsetenv("TROUPE_ROBOCUP_PLUGIN_PATH");
-  ASSERT_GE(path.size(), 4u);
-  EXPECT_EQ(path[0], "/first");
-  EXPECT_EQ(path[1], "/second");
-  EXPECT_NE(path[2].find("/plugins"), std::string::npos);
+TEST(PluginLoader, OneSearchRule) {
+  // The user's folders, the program's ../lib/troupe, $TROUPE_PLUGIN_PATH,
+  // the world's folder.
+  setenv("TROUPE_PLUGIN_PATH", "/first:/second", 1);
+  std::vector<std::string> path = plugin::search_path({"/mine"}, "/worlds");
+  unsetenv("TROUPE_PLUGIN_PATH");
+  ASSERT_EQ(path.size(), 5u);
+  EXPECT_EQ(path[0], "/mine");
+  EXPECT_NE(path[1].find("/../lib/troupe"), std::string::npos) << path[1];
+  EXPECT_EQ(path[2], "/first");
+  EXPECT_EQ(path[3], "/second");
+  EXPECT_EQ(path[4], "/worlds");
 }
 
 TEST(Simulation, BrokenPluginsAreReportedAndTheRestRuns) {
   std::string error;
   auto sim = test::make_sim(R"(
-robot ok team=blue x=-1 y=0 {
-  shape circle r=0.2
-  motion diff_drive
-  sensor odometry
-}
-robot broken team=yellow x=1 y=0 {
-  shape circle r=0.2
-  motion teleport_drive
-  sensor odometry
-  sensor camera fov=9
-  sensor laser bogus=1
-  sensor no_symbol
-  sensor goalkeeper
-  sensor ultrasonic
-  player striker aim=3
-}
+robocup_robot ( name "ok" team "blue" pose [-1 0 0 0]
+  shape ( kind "circle" r 0.2 )
+  motion_plugin ( plugin "diff_drive" )
+  sensor_plugin ( plugin "odometry" )
+)
+robocup_robot ( name "broken" team "yellow" pose [1 0 0 0]
+  shape ( kind "circle" r 0.2 )
+  motion_plugin ( plugin "teleport_drive" )
+  sensor_plugin ( plugin "odometry" )
+  sensor_plugin ( plugin "camera" fov 9 )
+  sensor_plugin ( plugin "laser" bogus 1 )
+  sensor_plugin ( plugin "no_symbol" )
+  sensor_plugin ( plugin "goalkeeper" )
+  sensor_plugin ( plugin "ultrasonic" )
+  player ( plugin "striker" aim 3 )
+)
 )",
                             error);
   ASSERT_TRUE(sim) << error;
@@ -121,7 +132,9 @@ robot broken team=yellow x=1 y=0 {
 TEST(Simulation, PlayersStartAndStopAtRunTime) {
   std::string error;
   auto sim =
-      test::make_sim("robot k team=blue x=-4.15 y=0 {\n shape circle r=0.2\n motion omni_drive\n}\n", error);
+      test::make_sim(test::robot("k", "blue", -4.15, 0, 0,
+                                 "  shape ( kind \"circle\" r 0.2 )\n  motion_plugin ( plugin \"omni_drive\" )\n"),
+                     error);
   ASSERT_TRUE(sim) << error;
   Options bad("console", "");
   bad.set("policy", "psychic");

@@ -58,9 +58,7 @@ TEST(Referee, StopsWhenTimeIsUp) {
 TEST(Game, ARolledBallScoresAndTheFieldIsReset) {
   std::string error;
   auto sim = test::make_sim(
-      "referee goal_pause=0.5\nball x=0 y=0\n"
-      "robot b1 team=blue x=-2 y=1 {" +
-          test::pioneer_block() + "}\n",
+      "referee ( goal_pause 0.5 )\nball ( pose [0 0 0 0] )\n" + test::robot("b1", "blue", -2, 1, 0, test::pioneer_block()),
       error);
   ASSERT_TRUE(sim) << error;
   sim->place_ball({3.0, 0.3}, {4, 0});
@@ -79,7 +77,7 @@ TEST(Game, ARolledBallScoresAndTheFieldIsReset) {
 
 TEST(Game, TheGoalsWallsStopAShotBallAndItCountsOnce) {
   std::string error;
-  auto sim = test::make_sim("referee goal_pause=2\nball\n", error);
+  auto sim = test::make_sim("referee ( goal_pause 2 )\nball ( )\n", error);
   ASSERT_TRUE(sim) << error;
   sim->place_ball({3.5, 0.4}, {8, 0});
   int goals = 0;
@@ -95,7 +93,7 @@ TEST(Game, TheGoalsWallsStopAShotBallAndItCountsOnce) {
 
 TEST(Game, ABallOverTheTouchLineComesBackClearOfRobots) {
   std::string error;
-  auto sim = test::make_sim("robot b1 team=blue x=1 y=2 {" + test::pioneer_block() + "}\n", error);
+  auto sim = test::make_sim(test::robot("b1", "blue", 1, 2, 0, test::pioneer_block()), error);
   ASSERT_TRUE(sim) << error;
   sim->place_ball({1.0, 2.3}, {0, 2});
   bool out = false;

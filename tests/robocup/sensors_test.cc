@@ -11,9 +11,11 @@ namespace {
 std::unique_ptr<Simulation> scene(const std::string& sensor, const std::string& more = "") {
   std::string error;
   auto sim = test::make_sim(
-      "ball x=2 y=0 deceleration=100\nrobot me team=blue x=0 y=0 a=0 {\n shape circle r=0.2 z=0,0.6\n motion "
-      "diff_drive\n " +
-          sensor + "\n}\n" + more,
+      "ball ( pose [2 0 0 0] deceleration 100 )\n" +
+          test::robot("me", "blue", 0, 0, 0,
+                      "  shape ( kind \"circle\" r 0.2 z [0 0.6] )\n  motion_plugin ( plugin \"diff_drive\" )\n  " +
+                          sensor + "\n") +
+          more,
       error);
   EXPECT_TRUE(sim) << error;
   if (sim) {
@@ -30,7 +32,7 @@ const Detection* find(const SensorReading& r, ObjectKind kind, int id = -2) {
 }
 
 TEST(Camera, SeesWhatIsInItsViewAndRangeOnly) {
-  auto sim = scene("sensor camera fov=1.0 range=5 z=0.5");
+  auto sim = scene("sensor_plugin ( plugin \"camera\" fov 1.0 range 5 z 0.5 )");
   sim->step();
   const SensorReading& r = sim->readings(0)[0];
   ASSERT_TRUE(r.valid);
@@ -59,8 +61,8 @@ TEST(Camera, SeesWhatIsInItsViewAndRangeOnly) {
 
 TEST(Camera, RobotsHideWhatIsBehindThem) {
   const std::string blocker =
-      "robot wall team=yellow x=1 y=0 {\n shape rect length=0.3 width=0.5 z=0,0.6\n}\n";
-  auto sim = scene("sensor camera fov=1.0 range=5 z=0.5", blocker);
+      test::robot("wall", "yellow", 1, 0, 0, "  shape ( kind \"rect\" length 0.3 width 0.5 z [0 0.6] )\n");
+  auto sim = scene("sensor_plugin ( plugin \"camera\" fov 1.0 range 5 z 0.5 )", blocker);
   sim->step();
   const SensorReading& r = sim->readings(0)[0];
   EXPECT_EQ(find(r, ObjectKind::Ball), nullptr);
@@ -68,15 +70,15 @@ TEST(Camera, RobotsHideWhatIsBehindThem) {
   ASSERT_NE(other, nullptr);
   EXPECT_EQ(other->team, int(Team::Yellow));
   EXPECT_NEAR(other->range(), 1, 1e-9);
-  auto blind = scene("sensor camera fov=1.0 range=5 z=0.5 occlusion=0", blocker);
+  auto blind = scene("sensor_plugin ( plugin \"camera\" fov 1.0 range 5 z 0.5 occlusion 0 )", blocker);
   blind->step();
   EXPECT_NE(find(blind->readings(0)[0], ObjectKind::Ball), nullptr);
 }
 
 TEST(Camera, NoiseIsSeededAndRepeatable) {
   auto run = [](uint64_t seed) {
-    auto sim = scene("sensor camera fov=1.0 range=5 range_noise=0.05 bearing_noise=0.02",
-                     "world seed=" + std::to_string(seed) + "\n");
+    auto sim = scene("sensor_plugin ( plugin \"camera\" fov 1.0 range 5 range_noise 0.05 bearing_noise 0.02 )",
+                     "seed " + std::to_string(seed) + "\n");
     sim->step();
     return *find(sim->readings(0)[0], ObjectKind::Ball);
   };
@@ -88,7 +90,7 @@ TEST(Camera, NoiseIsSeededAndRepeatable) {
 }
 
 TEST(OmniVision, SeesLinesGoalsAndBallAllAround) {
-  auto sim = scene("sensor omnivision range=5 z=0.7");
+  auto sim = scene("sensor_plugin ( plugin \"omnivision\" range 5 z 0.7 )");
   sim->place_robot(0, {1, 0.5, 0});
   sim->place_ball({0, -1}, {});
   sim->step();
@@ -113,7 +115,7 @@ TEST(OmniVision, SeesLinesGoalsAndBallAllAround) {
 TEST(Laser, RawBeamsMeasureWallsAndOnlyTallEnoughObjects) {
   // Three beams: right, ahead, left. The barrier is 1 m beyond the 2.5 m
   // touch lines; ahead, the beam passes the goal mouth to its back wall.
-  auto sim = scene("sensor laser beams=3 fov=3.14159265358979 range=8 z=0.3");
+  auto sim = scene("sensor_plugin ( plugin \"laser\" beams 3 fov 3.14159265358979 range 8 z 0.3 )");
   sim->step();
   const SensorReading& r = sim->readings(0)[0];
   ASSERT_EQ(r.ranges.size(), 3u);
@@ -121,14 +123,14 @@ TEST(Laser, RawBeamsMeasureWallsAndOnlyTallEnoughObjects) {
   EXPECT_NEAR(r.ranges[0], 3.5, 1e-5);
   EXPECT_NEAR(r.ranges[1], 5.1, 1e-5) << "the 0.22 m ball is under a 0.3 m beam";
   EXPECT_NEAR(r.ranges[2], 3.5, 1e-5);
-  auto low = scene("sensor laser beams=3 fov=3.14159265358979 range=8 z=0.1");
+  auto low = scene("sensor_plugin ( plugin \"laser\" beams 3 fov 3.14159265358979 range 8 z 0.1 )");
   low->step();
   EXPECT_NEAR(low->readings(0)[0].ranges[1], 2 - 0.11, 1e-5) << "a 0.1 m beam hits the ball";
 }
 
 TEST(Laser, IconicModeReportsObjectsItsBeamsReach) {
-  auto sim = scene("sensor laser mode=iconic range=8 z=0.1",
-                   "robot other team=yellow x=1 y=1 {\n shape circle r=0.2 z=0,0.6\n}\n");
+  auto sim = scene("sensor_plugin ( plugin \"laser\" mode \"iconic\" range 8 z 0.1 )",
+                   test::robot("other", "yellow", 1, 1, 0, "  shape ( kind \"circle\" r 0.2 z [0 0.6] )\n"));
   sim->step();
   const SensorReading& r = sim->readings(0)[0];
   ASSERT_NE(find(r, ObjectKind::Ball), nullptr);
@@ -139,7 +141,7 @@ TEST(Laser, IconicModeReportsObjectsItsBeamsReach) {
 }
 
 TEST(Ultrasonic, ReportsTheNearestObstacleInItsCone) {
-  auto sim = scene("sensor ultrasonic cone=0.6 range=3 z=0.1");
+  auto sim = scene("sensor_plugin ( plugin \"ultrasonic\" cone 0.6 range 3 z 0.1 )");
   sim->step();
   EXPECT_NEAR(sim->readings(0)[0].ranges.at(0), 2 - 0.11, 1e-6);
   sim->place_ball({0, 2}, {});
@@ -149,7 +151,7 @@ TEST(Ultrasonic, ReportsTheNearestObstacleInItsCone) {
 
 TEST(Odometry, FollowsTheRobotAndDriftsOnlyWithNoise) {
   auto drive = [](const std::string& sensor, uint64_t seed) {
-    auto sim = scene(sensor, "world seed=" + std::to_string(seed) + "\n");
+    auto sim = scene(sensor, "seed " + std::to_string(seed) + "\n");
     sim->place_ball({0, -2}, {});
     for (int i = 0; i < 300; ++i) {
       sim->command(0, {1.0, 0, i < 150 ? 0.8 : -0.5});
@@ -157,11 +159,11 @@ TEST(Odometry, FollowsTheRobotAndDriftsOnlyWithNoise) {
     }
     return std::make_pair(sim->readings(0)[0].odometry, sim->robot(0).pose);
   };
-  auto [clean, truth] = drive("sensor odometry", 1);
+  auto [clean, truth] = drive("sensor_plugin ( plugin \"odometry\" )", 1);
   EXPECT_NEAR(clean.x, truth.x, 1e-9);
   EXPECT_NEAR(clean.y, truth.y, 1e-9);
   EXPECT_NEAR(clean.a, truth.a, 1e-9);
-  const std::string noisy = "sensor odometry translation_noise=0.05 rotation_noise=0.05 drift=0.05";
+  const std::string noisy = "sensor_plugin ( plugin \"odometry\" translation_noise 0.05 rotation_noise 0.05 drift 0.05 )";
   auto [n1, t1] = drive(noisy, 1);
   auto [n2, t2] = drive(noisy, 1);
   auto [n3, t3] = drive(noisy, 2);

@@ -19,20 +19,18 @@ namespace troupe::robocup::test {
 /// without a player near its own goal; the ball 1 m ahead of the striker.
 inline std::string served_world() {
   return R"(
-world cycle=0.01 seed=3
-field length=9 width=5
-ball radius=0.11 mass=0.43 deceleration=0.4 x=1 y=0
-referee goal_pause=1 duration=0
-robot striker team=yellow x=0 y=0 a=0 {)" +
-         pioneer_block(R"(
-  motion diff_drive max_speed=2 max_turn=6 accel=2.5 turn_accel=15
-  sensor odometry
-  sensor omnivision name=omni range=6 z=0.7
-  sensor camera name=front x=0.2 fov=1.0 range=6 z=0.5
-  sensor laser name=laser mode=raw beams=181 range=8 z=0.3
-)") + R"(}
-robot keeper team=blue x=-4 y=0 a=0 {)" +
-         pioneer_block("  motion diff_drive\n") + "}\n";
+interval_sim 10
+seed 3
+robocup_field ( length 9 width 5 )
+ball ( radius 0.11 mass 0.43 deceleration 0.4 pose [1 0 0 0] )
+referee ( goal_pause 1 duration 0 )
+)" + robot("striker", "yellow", 0, 0, 0, pioneer_block(R"(
+  motion_plugin ( plugin "diff_drive" max_speed 2 max_turn 6 accel 2.5 turn_accel 15 )
+  sensor_plugin ( plugin "odometry" )
+  sensor_plugin ( plugin "omnivision" name "omni" range 6 z 0.7 )
+  sensor_plugin ( plugin "camera" name "front" x 0.2 fov 1.0 range 6 z 0.5 )
+  sensor_plugin ( plugin "laser" name "laser" mode "raw" beams 181 range 8 z 0.3 )
+)")) + robot("keeper", "blue", -4, 0, 0, pioneer_block("  motion_plugin ( plugin \"diff_drive\" )\n"));
 }
 
 class ServedWorld : public ::testing::Test {

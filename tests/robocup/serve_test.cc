@@ -5,7 +5,6 @@
 
 #include "runtime/clock.h"
 #include "tests/robocup/serve_fixture.h"
-#include "wire/landmark_code.h"
 
 namespace troupe::robocup::test {
 namespace {
@@ -13,9 +12,9 @@ namespace {
 using client::Client;
 using client::Pose2;
 
-const wire::Fiducial* find_code(const client::FiducialProxy& p, wire::LandmarkKind kind, int id) {
-  for (const wire::Fiducial& f : p.fiducials()) {
-    if (f.id() == wire::landmark_code(kind, id)) return &f;
+const wire::Fiducial* find(const client::FiducialProxy& p, wire::FiducialKind kind, int id) {
+  for (size_t i = 0; i < p.fiducials().size(); ++i) {
+    if (p.kind(i) == kind && p.fiducials()[i].id() == id) return &p.fiducials()[i];
   }
   return nullptr;
 }
@@ -47,7 +46,7 @@ TEST_F(ServedWorld, DataCarriesTheSimulatedTimeOfItsMeasurement) {
   EXPECT_EQ(base.time_us(), 100000u);
   EXPECT_EQ(omni.time_us(), 100000u);
   // The ball 1 m ahead, seen by the omni camera on the robot's axis.
-  const wire::Fiducial* ball = find_code(omni, wire::LandmarkKind::Ball, 0);
+  const wire::Fiducial* ball = find(omni, wire::FiducialKind::Ball, 0);
   ASSERT_NE(ball, nullptr);
   EXPECT_NEAR(ball->x(), 1.0, 1e-3);
   EXPECT_NEAR(ball->y(), 0.0, 1e-3);

@@ -16,14 +16,17 @@ namespace {
 // The example's robots on the 2001 field: the client's striker (yellow,
 // attacks the blue goal at -x) and a blue keeper standing in its goal.
 const char* kWorld = R"(
-world cycle=0.01 restitution=0.5 friction=0.3 seed=11
-field length=9 width=5
-ball radius=0.11 mass=0.43 deceleration=0.4 x=-1.5 y=0.8
-referee goal_pause=1 duration=0
-robot blue0 file="robots/keeper.robot" team=blue x=-4.15 y=0 a=0 {
-  player goalkeeper policy=none
-}
-robot yellow3 file="robots/pioneer.robot" team=yellow x=1 y=-0.5 a=3.14159265
+include "robots/keeper.inc"
+include "robots/pioneer.inc"
+interval_sim 10
+restitution 0.5
+friction 0.3
+seed 11
+robocup_field ( length 9 width 5 )
+ball ( radius 0.11 mass 0.43 deceleration 0.4 pose [-1.5 0.8 0 0] )
+referee ( goal_pause 1 duration 0 )
+keeper ( name "blue0" team "blue" pose [-4.15 0 0 0] player ( plugin "goalkeeper" policy "none" ) )
+pioneer ( name "yellow3" team "yellow" pose [1 -0.5 0 180] )
 )";
 
 class StrikerTest : public ServedWorld {
@@ -42,8 +45,8 @@ TEST_F(StrikerTest, ReachesTheBallAndKicksItTowardsTheGoal) {
   client::Pose2 robot, ball;
   ASSERT_TRUE(sim.get_pose("yellow3", robot));
   ASSERT_TRUE(sim.get_pose("ball", ball));
-  const float start_distance = std::hypot(robot.x - ball.x, robot.y - ball.y);
-  float closest = start_distance, ball_min_x = ball.x;
+  const double start_distance = std::hypot(robot.x - ball.x, robot.y - ball.y);
+  double closest = start_distance, ball_min_x = ball.x;
   bool scored = false;
   // Up to 20 simulated seconds, one decision per cycle.
   for (int cycle = 0; cycle < 2000 && !scored; ++cycle) {

@@ -15,10 +15,11 @@
 namespace troupe::testing {
 
 inline const wire::Address kLaser(0, uint16_t(wire::Interface::Ranger), 0);
-inline const wire::Address kOther(0, uint16_t(wire::Interface::Position2d), 0);  // the kinematic driver
+inline const wire::Address kKinematic(0, uint16_t(wire::Interface::Position2d), 0);  // the kinematic driver
 
-class SickNode : public ::testing::Test {
- protected:
+// The rig without GoogleTest's fixture, so a test parameterised over the
+// serial drivers can hold one (tests/serial_port/serial_driver_alloc_test).
+struct SickRig {
   std::string config(const std::string& options) const {
     std::string driver = "\"port\": \"" + dir_.file("laser") + "\"";
     if (!options.empty()) driver += ", " + options;
@@ -38,7 +39,7 @@ class SickNode : public ::testing::Test {
     ASSERT_TRUE(node_.start(config(options), node_error)) << node_error;
     ASSERT_TRUE(client_.connect(node_.port(), node_error)) << node_error;
     client_.open(kLaser);
-    client_.open(kOther);
+    client_.open(kKinematic);
     loop_.add(node_);
     loop_.add(client_);
     // Every scan the client gets must be one the scanner sent: the world
@@ -73,5 +74,7 @@ class SickNode : public ::testing::Test {
   uint32_t checked_ = 0;
   uint32_t mismatched_ = 0;  // published scans unlike the scanner's
 };
+
+class SickNode : public ::testing::Test, public SickRig {};
 
 }  // namespace troupe::testing

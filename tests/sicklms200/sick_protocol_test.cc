@@ -39,7 +39,9 @@ TEST(SickTelegram, RequestsAreFramedWithTheCrcLowByteFirst) {
   EXPECT_EQ(t.bytes[5], 0x42);
   ASSERT_TRUE(baud_change(500000, t));
   EXPECT_EQ(t.bytes[5], 0x48);
-  EXPECT_FALSE(baud_change(19200, t));
+  ASSERT_TRUE(baud_change(19200, t));
+  EXPECT_EQ(t.bytes[5], 0x41);
+  EXPECT_FALSE(baud_change(57600, t));
 }
 
 TEST(SickTelegram, RepliesCountCodeDataAndStatus) {

@@ -125,7 +125,7 @@ TEST_F(SickNode, BadOptionsKeepTheNodeFromStarting) {
     const char* options;
     const char* error;
   } cases[] = {
-      {R"("baud": 19200)", "runs at 9600, 38400 or 500000 bit/s, not 19200"},
+      {R"("baud": 57600)", "runs at 9600, 19200, 38400 or 500000 bit/s, not 57600"},
       {R"("resolution_cdeg": 25)", "\"resolution_cdeg\" 25: the scanner offers"},
       {R"("scan_width_deg": 90)", "\"scan_width_deg\" 90"},
       {R"("reply_attempts": 0)", "\"reply_attempts\" must be > 0"},

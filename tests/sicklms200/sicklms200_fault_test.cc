@@ -12,9 +12,9 @@ class SickFaults : public SickNode {
   // Runs for `seconds` with whatever faults are set; both devices must go
   // on publishing, and nothing but the scanner's own scans.
   void run_through_faults(double seconds) {
-    uint32_t other = client_.count(kOther), scans = client_.count(kLaser);
+    uint32_t other = client_.count(kKinematic), scans = client_.count(kLaser);
     loop_.run_for(seconds);
-    EXPECT_GT(client_.count(kOther), other + 5) << "the kinematic base stopped being served";
+    EXPECT_GT(client_.count(kKinematic), other + 5) << "the kinematic base stopped being served";
     EXPECT_GT(client_.count(kLaser), scans + 3) << "the scanner stopped publishing";
     EXPECT_EQ(mismatched_, 0u) << "a corrupted scan was published";
   }
@@ -58,12 +58,12 @@ TEST_F(SickFaults, TornTelegrams) {
 TEST_F(SickFaults, BurstsOfGarbage) {
   start();
   ASSERT_TRUE(streaming());
-  uint32_t other = client_.count(kOther);
+  uint32_t other = client_.count(kKinematic);
   for (int i = 0; i < 5; ++i) {
     scanner_->inject_noise(1000);
     loop_.run_for(0.4);
   }
-  EXPECT_GT(client_.count(kOther), other + 5);
+  EXPECT_GT(client_.count(kKinematic), other + 5);
   recovers();
 }
 
@@ -85,9 +85,9 @@ TEST_F(SickFaults, ThePortVanishesAndReturns) {
   ASSERT_TRUE(streaming());
   ::testing::internal::CaptureStderr();
   scanner_->vanish();
-  uint32_t other = client_.count(kOther);
+  uint32_t other = client_.count(kKinematic);
   loop_.run_for(1.5);
-  EXPECT_GT(client_.count(kOther), other + 10) << "the kinematic base stopped being served";
+  EXPECT_GT(client_.count(kKinematic), other + 10) << "the kinematic base stopped being served";
   std::string error;
   ASSERT_TRUE(scanner_->reappear(error)) << error;
   uint32_t scans = client_.count(kLaser);
@@ -111,13 +111,13 @@ TEST_F(SickFaults, TheScannerRestartsAtItsPowerUpSpeed) {
 TEST_F(SickFaults, TheScannerFallsSilent) {
   start({}, R"("reply_timeout_ms": 300)");
   ASSERT_TRUE(streaming());
-  uint32_t other = client_.count(kOther);
+  uint32_t other = client_.count(kKinematic);
   scanner_->set_mute(true);
   loop_.run_for(2.5);  // past the scan timeout: the driver starts over
   scanner_->set_mute(false);
   uint32_t scans = client_.count(kLaser);
   ASSERT_TRUE(loop_.run_until([&] { return client_.count(kLaser) > scans + 3; }, 20));
-  EXPECT_GT(client_.count(kOther), other + 10);
+  EXPECT_GT(client_.count(kKinematic), other + 10);
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ namespace {
 
 ControllerHost::Options options(bool ignore_missing = false) {
   ControllerHost::Options o;
-  o.search_path = {TROUPE_CONTROLLER_DIR};
+  o.search_path = {TROUPE_BINARY_DIR "/lib/troupe"};
   o.ignore_missing = ignore_missing;
   return o;
 }
@@ -118,7 +118,7 @@ TEST(Controllers, MissingControllerIsAnErrorNamingIt) {
   EXPECT_FALSE(host.load(*w, options(), d));
   ASSERT_TRUE(d.has_errors());
   const world::Diagnostic& e = d.items().back();
-  EXPECT_NE(e.message.find("controller 'no_such_brain'"), std::string::npos) << e.str();
+  EXPECT_NE(e.message.find("controller plugin 'no_such_brain': not found"), std::string::npos) << e.str();
   EXPECT_NE(e.message.find("'lost'"), std::string::npos);
   EXPECT_NE(e.message.find("--ignore-missing-ctrl"), std::string::npos);
   EXPECT_EQ(e.loc.line, 13);

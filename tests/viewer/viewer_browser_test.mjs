@@ -5,7 +5,11 @@
 // that a WebSocket sending garbage is closed while the page goes on, and
 // that troupe-view shows a live troupe-node's devices (a kinematic base
 // driven with `troupe cmd`; with the shared data, a CARMEN log's laser and
-// odometry). Screenshots are kept in the build tree.
+// odometry). In blobs.world it checks that a blobfinder's blobs are drawn
+// in the world view where the boxes it sees are (their positions and the
+// canvas pixels there), and that the page reconnects by itself when the
+// simulator (or, under troupe-view, the node) is killed and restarted
+// behind it. Screenshots are kept in the build tree.
 //
 // usage: node viewer_browser_test.mjs --bin DIR --node PATH --modules DIR --source DIR --out DIR [--shared DIR]
 // Exit 0: passed, 1: failed, 77: skipped (no Chromium).
@@ -183,6 +187,136 @@ async function simulatorPage(browser) {
   sim.child.kill('SIGTERM');
 }
 
+/// The selected robot's blobs as the page draws them in the world view,
+/// each with the canvas pixel (r, g, b) at its page position: read in one
+/// go, between two frames.
+function drawnBlobs(page) {
+  return page.evaluate(() => {
+    const c = document.getElementById('world');
+    const box = c.getBoundingClientRect();
+    const dpr = window.devicePixelRatio || 1;
+    const ctx = c.getContext('2d');
+    return troupeViewer.worldBlobs().map((b) => {
+      const d = ctx.getImageData(Math.round((b.pageX - box.left) * dpr), Math.round((b.pageY - box.top) * dpr), 1, 1).data;
+      return { ...b, rgb: [d[0], d[1], d[2]] };
+    });
+  });
+}
+
+/// True when `rgb` is the colour '#rrggbb' (within antialiasing).
+function isColor(rgb, color) {
+  const want = parseInt(color.slice(1), 16);
+  return [want >> 16, (want >> 8) & 255, want & 255].every((c, i) => Math.abs(c - rgb[i]) < 40);
+}
+
+/// Waits for the next frames to be drawn.
+function frames(page, n = 3) {
+  return page.evaluate((n) => new Promise((resolve) => {
+    const tick = () => (--n <= 0 ? resolve() : requestAnimationFrame(tick));
+    requestAnimationFrame(tick);
+  }), n);
+}
+
+async function blobsAndRestartPage(browser) {
+  const world = join(args.source, 'tests/viewer/blobs.world');
+  const simArgs = (viewPort) => [world, '--port', '0', '--view', String(viewPort)];
+  const patterns = { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ };
+  let sim = await start(join(args.bin, 'troupe-sim'), simArgs(0), patterns);
+  const viewPort = new URL(sim.url).port;
+  const page = await browser.newPage({ viewport: { width: 1000, height: 760 } });
+  page.on('pageerror', (e) => check(false, 'no error on the page', e.message));
+  await page.goto(sim.url);
+  await waitFor(page, () => window.troupeViewer?.ready);
+
+  // The blobs of seer's blobfinder, drawn where the boxes are.
+  const boxes = { '#ff0000': { x: 3.0, y: 0.8 }, '#0000ff': { x: 4.0, y: -1.0 } };
+  const seeBlobs = async (when) => {
+    await page.evaluate(() => troupeViewer.select('seer'));
+    await waitFor(page, () => troupeViewer.worldBlobs().length === 2);
+    await frames(page);
+    const blobs = await drawnBlobs(page);
+    for (const b of blobs) {
+      const box = boxes[b.color];
+      check(box && Math.hypot(b.x - box.x, b.y - box.y) < 0.35, `${when}: the ${b.color} blob is drawn at its box`,
+            `${b.x.toFixed(2)}, ${b.y.toFixed(2)} m; box at ${box ? `${box.x}, ${box.y}` : '?'}`);
+      check(isColor(b.rgb, b.color), `${when}: the canvas shows the ${b.color} blob there`, `pixel ${b.rgb}`);
+    }
+    return blobs;
+  };
+  const blobs = await seeBlobs('blobs');
+  await page.screenshot({ path: join(args.out, 'viewer-blobs.png') });
+  console.log(`screenshot: ${join(args.out, 'viewer-blobs.png')}`);
+  // Not selected, seer's blobs are not drawn: those pixels were the blobs'.
+  await page.evaluate(() => troupeViewer.select(''));
+  await frames(page);
+  for (const b of blobs) {
+    const rgb = await page.evaluate(({ x, y }) => {
+      const c = document.getElementById('world');
+      const box = c.getBoundingClientRect();
+      const dpr = window.devicePixelRatio || 1;
+      const d = c.getContext('2d').getImageData(Math.round((x - box.left) * dpr), Math.round((y - box.top) * dpr), 1, 1).data;
+      return [d[0], d[1], d[2]];
+    }, { x: b.pageX, y: b.pageY });
+    check(!isColor(rgb, b.color), `deselected: no ${b.color} blob drawn`, `pixel ${rgb}`);
+  }
+
+  // The simulator dies behind the open page: the page says so and retries.
+  sim.child.kill('SIGKILL');
+  await waitFor(page, () => troupeViewer.link !== 'open' && /reconnecting in/.test(
+                                document.getElementById('status').textContent));
+  const status = await page.textContent('#status');
+  check(/disconnected: .*reconnecting in [\d.]+ s \(attempt \d+\)/.test(status),
+        'simulator killed: the page shows it is reconnecting', status);
+  await page.waitForTimeout(1500);  // a few failed attempts, the backoff growing
+  const attempts = await page.evaluate(() => document.getElementById('status').textContent);
+  check(/attempt [2-9]/.test(attempts), 'it keeps trying', attempts);
+  // Restarted on the same viewer port, it is found again without a reload.
+  sim = await start(join(args.bin, 'troupe-sim'), simArgs(viewPort), patterns);
+  await waitFor(page, () => troupeViewer.opens === 2 && troupeViewer.ready && troupeViewer.link === 'open');
+  const names = await page.evaluate(() => troupeViewer.robots());
+  check(names.length === 1 && names[0] === 'seer', 'simulator restarted: the page shows its robot again',
+        names.join(', '));
+  await waitFor(page, () => /^connected: /.test(document.getElementById('status').textContent));
+  check(/connected: troupe-sim, 1 robots \(reconnected 1×\)/.test(await page.textContent('#status')),
+        'the status line says it reconnected', await page.textContent('#status'));
+  await seeBlobs('after the restart');
+  await page.close();
+  sim.child.kill('SIGTERM');
+}
+
+// A RoboCup match: the field, the ball as a disc, the score and a kick.
+async function matchPage(browser) {
+  const troupe = join(args.bin, 'troupe');
+  const sim = await start(join(args.bin, 'troupe-sim'),
+                          [join(args.source, 'examples/robocup/match.world'), '--port', '0', '--view', '0', '--paused'],
+                          { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ });
+  const addr = `127.0.0.1:${sim.port}`;
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('pageerror', (e) => check(false, 'match: no error on the page', e.message));
+  await page.goto(sim.url);
+  await waitFor(page, () => window.troupeViewer?.ready);
+  const names = await page.evaluate(() => troupeViewer.robots());
+  check(names.length === 9 && names[8] === 'ball', 'match: 8 robots and the ball', names.join(' '));
+  const field = await page.evaluate(() => troupeViewer.field());
+  check(field && field.length === 9 && field.width === 5, 'match: the field comes with the models', JSON.stringify(field));
+  await waitFor(page, () => troupeViewer.colorAt(2, -2) === '#3f8f3f');
+  check(true, 'match: the grass is drawn');
+  // A goal for blue: the ball behind the yellow goal line, one step.
+  await run(troupe, ['req', addr, 'simulation:0', 'setpose', 'ball', '4.8', '0', '0']);
+  await run(troupe, ['req', addr, 'simulation:0', 'step', '2']);
+  await waitFor(page, () => troupeViewer.game()?.blue === 1);
+  check(true, 'match: the score shows the goal');
+  // A kick: yellow3's kicker goes out for a quarter of a second.
+  await run(troupe, ['cmd', addr, 'yellow3/actuator:0', 'kick']);
+  await run(troupe, ['req', addr, 'simulation:0', 'step', '3']);
+  await waitFor(page, () => troupeViewer.kicking().includes('yellow3'));
+  check(true, 'match: the kick is shown');
+  await page.screenshot({ path: join(args.out, 'viewer-match.png') });
+  console.log(`screenshot: ${join(args.out, 'viewer-match.png')}`);
+  await page.close();
+  sim.child.kill('SIGTERM');
+}
+
 async function nodePage(browser, config, name, drive) {
   const node = await start(args.node, [config, '--port', '0'], { port: /serving \d+ devices on [^\n]*:(\d+)\n/ });
   const view = await start(join(args.bin, 'troupe-view'), [`127.0.0.1:${node.port}`, '--http-port', '0'],
@@ -213,12 +347,22 @@ const browser = await chromium.launch({
 const scratch = mkdtempSync(join(tmpdir(), 'troupe-viewer-'));
 try {
   await simulatorPage(browser);
+  await blobsAndRestartPage(browser);
+  await matchPage(browser);
 
   // A kinematic base, driven in a circle over the wire.
   const troupe = join(args.bin, 'troupe');
   const kin = await nodePage(browser, join(args.source, 'examples/nodes/kinematic.json'), 'kinematic node',
                              (port) => run(troupe, ['cmd', `127.0.0.1:${port}`, 'position2d:0', 'vel', '0.5', '0', '0.6']));
   await kin.page.screenshot({ path: join(args.out, 'viewer-node.png') });
+  // The node restarts behind troupe-view: the page reconnects through it.
+  kin.node.child.kill('SIGKILL');
+  await waitFor(kin.page, () => troupeViewer.link !== 'open');
+  await start(args.node, [join(args.source, 'examples/nodes/kinematic.json'), '--port', kin.node.port],
+              { port: /serving \d+ devices on [^\n]*:(\d+)\n/ });
+  await waitFor(kin.page, () => troupeViewer.opens >= 2 && troupeViewer.ready && troupeViewer.link === 'open');
+  const devices = await kin.page.evaluate(() => troupeViewer.devices());
+  check(devices.includes('position2d:0'), 'node restarted: the page lists its devices again', devices.join(', '));
   await kin.page.close();
 
   // A recorded robot: a CARMEN log's odometry and laser.

@@ -6,20 +6,21 @@
 #include <string_view>
 #include <vector>
 
+#include "wire/cli/args.h"
 #include "wire/client/client.h"
 
 namespace troupe::cli {
 
-/// Exit codes: 0 ok, 1 a runtime failure (no host, no device, refused),
-/// 2 bad usage.
-inline constexpr int kExitFailure = 1;
-inline constexpr int kExitUsage = 2;
-
 /// Prints "troupe: <message>" to stderr and returns kExitFailure.
 int fail(const std::string& message);
-/// Prints "troupe <cmd>: <message> (see: troupe help <cmd>)", one line, and
+/// Prints "troupe <cmd>: <message> (see: troupe <cmd> --help)", one line, and
 /// returns kExitUsage.
 int usage_error(std::string_view command, const std::string& message);
+
+/// The positional arguments every built-in command starts with: the node
+/// (HOST[:PORT]) and, but for ls, a device ([ROBOT/]INTERFACE:INDEX).
+void add_host(CLI::App& app, std::string& host);
+void add_device(CLI::App& app, std::string& addr);
 
 /// Parses "HOST[:PORT]" and connects; on failure prints one line and returns
 /// nullptr. `reconnect`: keep trying after a lost connection (echo, teleop).
@@ -34,13 +35,13 @@ std::string to_json(const wire::Message& msg);
 /// Only the body, as JSON ("{}" when there is none).
 std::string body_json(const wire::Message& msg);
 
+/// The built-in commands: each parses its arguments (--help prints its
+/// help, so `troupe help NAME` runs it with {"--help"}) and runs.
 int cmd_ls(const std::vector<std::string>& args);
 int cmd_echo(const std::vector<std::string>& args);
 int cmd_send(const std::vector<std::string>& args, wire::Kind kind);  // cmd and req
 int cmd_teleop(const std::vector<std::string>& args);
 
-/// The help text of a subcommand (usage, options, examples).
-const char* help_text(std::string_view command);
 /// The verbs of `cmd`/`req` for an interface, a line each with arguments
 /// and units (for help), or comma-separated names only (for errors).
 std::string verb_list(wire::Interface iface, wire::Kind kind, bool names_only = false);

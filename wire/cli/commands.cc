@@ -15,47 +15,17 @@ volatile sig_atomic_t g_interrupted = 0;
 
 void on_interrupt(int) { g_interrupted = 1; }
 
-// Splits "--flag value" options from positional words.
-struct Parsed {
-  std::vector<std::string> words;
-  long count = -1;
-  bool json = false;
-  bool pull = false;
-  bool udp = false;
-};
-
-bool parse(std::string_view command, const std::vector<std::string>& args, Parsed& out, int& rc) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--json") {
-      out.json = true;
-    } else if (a == "--pull") {
-      out.pull = true;
-    } else if (a == "--udp") {
-      out.udp = true;
-    } else if (a == "--count") {
-      char* end = nullptr;
-      if (i + 1 >= args.size() || (out.count = strtol(args[i + 1].c_str(), &end, 10), *end != '\0') ||
-          out.count < 1) {
-        rc = usage_error(command, "--count needs a number of messages (at least 1)");
-        return false;
-      }
-      ++i;
-    } else if (a.size() > 1 && a[0] == '-' && !(a[1] >= '0' && a[1] <= '9') && a[1] != '.') {
-      rc = usage_error(command, "unknown option '" + a + "'");
-      return false;
-    } else {
-      out.words.push_back(a);
-    }
-  }
-  return true;
-}
-
 }  // namespace
 
 int cmd_ls(const std::vector<std::string>& args) {
-  if (args.size() != 1) return usage_error("ls", "want exactly one HOST");
-  auto c = connect(args[0]);
+  std::string host;
+  auto app = make_app("troupe ls", {"troupe ls HOST[:PORT]",
+                                    "Lists the devices of a node or simulator, one per line: the address, a tab,\n"
+                                    "the driver providing it.\n",
+                                    {"troupe ls localhost", "troupe ls robot7.local:6670"}});
+  add_host(*app, host);
+  if (int rc = parse(*app, args); rc >= 0) return rc;
+  auto c = connect(host);
   if (!c) return kExitFailure;
   std::vector<client::DeviceEntry> devices;
   if (!c->device_list(devices)) return fail(c->error());
@@ -64,20 +34,34 @@ int cmd_ls(const std::vector<std::string>& args) {
 }
 
 int cmd_echo(const std::vector<std::string>& args) {
-  Parsed p;
-  int rc = 0;
-  if (!parse("echo", args, p, rc)) return rc;
-  if (p.words.size() != 2) return usage_error("echo", "want HOST and ADDR");
+  struct {
+    std::string host, addr;
+    long count = -1;
+    bool json = false, pull = false, udp = false;
+  } p;
+  auto app = make_app("troupe echo",
+                      {"troupe echo HOST[:PORT] ADDR [--count N] [--json] [--pull] [--udp]",
+                       "Prints a device's data as it arrives, one line per message, until N messages\n"
+                       "or Ctrl-C. Lines start with the sender's time (s) and the sample number.\n"
+                       "If the node goes away, echo waits and resumes when it is back.\n",
+                       {"troupe echo localhost position2d:0 --count 5", "troupe echo localhost r3/ranger:1 --json"}});
+  add_host(*app, p.host);
+  add_device(*app, p.addr);
+  app->add_option("--count", p.count, "stop after N messages")->type_name("N")->check(at_least(1));
+  app->add_flag("--json", p.json, "the whole message as JSON");
+  app->add_flag("--pull", p.pull, "ask for each sample (pull mode) instead of having them pushed");
+  app->add_flag("--udp", p.udp, "receive data as UDP datagrams (latest wins)");
+  if (int rc = parse(*app, args); rc >= 0) return rc;
   wire::HostPort hp;
   std::string error;
-  if (!wire::parse_host(p.words[0], hp, error)) return fail(error);
+  if (!wire::parse_host(p.host, hp, error)) return fail(error);
   client::Client::Options options;
   options.name = "troupe-echo";
   options.udp_data = p.udp;
   client::Client c(hp.host, hp.port, options);
   if (!c.connect(3000)) return fail(c.error());
   wire::Address addr;
-  if (!resolve(c, p.words[1], addr)) return kExitFailure;
+  if (!resolve(c, p.addr, addr)) return kExitFailure;
   long printed = 0;
   c.add_data_handler([&](const wire::Message& msg) {
     if (!(msg.header()->addr() == addr) || (p.count > 0 && printed >= p.count)) return;
@@ -108,31 +92,55 @@ int cmd_echo(const std::vector<std::string>& args) {
 }
 
 int cmd_send(const std::vector<std::string>& args, wire::Kind kind) {
-  const char* name = kind == wire::Kind::Command ? "cmd" : "req";
-  Parsed p;
-  int rc = 0;
-  if (!parse(name, args, p, rc)) return rc;
-  if (p.words.size() < 3) return usage_error(name, "want HOST ADDR VERB [ARGS]");
+  const bool is_cmd = kind == wire::Kind::Command;
+  const char* name = is_cmd ? "cmd" : "req";
+  struct {
+    std::string host, addr, verb;
+    std::vector<std::string> verb_args;
+    bool json = false;
+  } p;
+  std::string about = is_cmd ? "Sends a command (no reply).\n"
+                             : "Sends a request and prints the reply (\"ok\" when it has no body).\n";
+  about += "\nverbs by interface:\n";
+  for (uint16_t i = 1; i <= uint16_t(wire::Interface::MAX); ++i) {
+    std::string verbs = verb_list(wire::Interface(i), kind);
+    if (!verbs.empty()) about += std::string(wire::interface_name(i)) + ":\n" + verbs;
+  }
+  auto app = make_app(std::string("troupe ") + name,
+                      is_cmd ? Help{"troupe cmd HOST[:PORT] ADDR VERB [ARGS...]",
+                                    about,
+                                    {"troupe cmd localhost position2d:0 vel 0.3 0 0.2",
+                                     "troupe cmd localhost r2/position2d:0 goto 1 2 0"}}
+                             : Help{"troupe req HOST[:PORT] ADDR VERB [ARGS...] [--json]",
+                                    about,
+                                    {"troupe req localhost position2d:0 geometry",
+                                     "troupe req localhost simulation:0 step 10"}});
+  add_host(*app, p.host);
+  add_device(*app, p.addr);
+  app->add_option("VERB", p.verb, "what to send")->required();
+  app->add_option("ARGS", p.verb_args, "the verb's arguments");
+  if (!is_cmd) app->add_flag("--json", p.json, "the reply's body as JSON");
+  if (int rc = parse(*app, args); rc >= 0) return rc;
   // Check the verb before connecting: a typo should not need a node.
   wire::DeviceSpec spec;
   std::string error;
-  if (!wire::parse_device(p.words[1], spec, error)) return usage_error(name, error);
-  const Verb* verb = find_verb(spec.iface, kind, p.words[2]);
+  if (!wire::parse_device(p.addr, spec, error)) return usage_error(name, error);
+  const Verb* verb = find_verb(spec.iface, kind, p.verb);
   if (verb == nullptr) {
     std::string verbs = verb_list(spec.iface, kind, /*names_only=*/true);
-    return usage_error(name, "'" + p.words[2] + "' is not a " + name + " of " +
+    return usage_error(name, "'" + p.verb + "' is not a " + name + " of " +
                                  std::string(wire::interface_name(uint16_t(spec.iface))) +
                                  (verbs.empty() ? " (it has none)" : " (it has: " + verbs + ")"));
   }
-  std::vector<std::string> verb_args(p.words.begin() + 3, p.words.end());
+  const std::vector<std::string>& verb_args = p.verb_args;
   if (verb_args.size() < verb->min_args || verb_args.size() > verb->max_args) {
     return usage_error(name, std::string(verb->name) + " takes " + (*verb->args ? verb->args : "no arguments") +
                                  " (" + verb->help + ")");
   }
-  auto c = connect(p.words[0]);
+  auto c = connect(p.host);
   if (!c) return kExitFailure;
   wire::Address addr;
-  if (!resolve(*c, p.words[1], addr)) return kExitFailure;
+  if (!resolve(*c, p.addr, addr)) return kExitFailure;
   Built built;
   if (!verb->build(c->begin(), verb_args, built, error)) return usage_error(name, error);
   if (kind == wire::Kind::Command) {

@@ -11,9 +11,15 @@ int fail(const std::string& message) {
 }
 
 int usage_error(std::string_view command, const std::string& message) {
-  fprintf(stderr, "troupe %.*s: %s (see: troupe help %.*s)\n", int(command.size()), command.data(), message.c_str(),
+  fprintf(stderr, "troupe %.*s: %s (see: troupe %.*s --help)\n", int(command.size()), command.data(), message.c_str(),
           int(command.size()), command.data());
   return kExitUsage;
+}
+
+void add_host(CLI::App& app, std::string& host) { app.add_option("HOST", host, "HOST[:PORT]")->required(); }
+
+void add_device(CLI::App& app, std::string& addr) {
+  app.add_option("ADDR", addr, "[ROBOT/]INTERFACE:INDEX")->required();
 }
 
 std::unique_ptr<client::Client> connect(const std::string& host_port, bool reconnect) {

@@ -136,8 +136,10 @@ std::string summary(const wire::Message& msg) {
       append(out, " fiducials=%zu", n);
       for (size_t i = 0; i < n; ++i) {
         const wire::Fiducial* f = s->fiducials()->Get(flatbuffers::uoffset_t(i));
-        append(out, " [id=%d x=%.3f y=%.3f yaw=%.3f]", int(f->id()), double(f->x()), double(f->y()),
-               double(f->yaw()));
+        const bool typed = s->kinds() && i < s->kinds()->size();
+        const auto kind = typed ? wire::FiducialKind(s->kinds()->Get(flatbuffers::uoffset_t(i))) : wire::FiducialKind::Generic;
+        append(out, " [%s id=%d x=%.3f y=%.3f yaw=%.3f]", wire::EnumNameFiducialKind(kind),
+               int(f->id()), double(f->x()), double(f->y()), double(f->yaw()));
       }
       return out;
     }

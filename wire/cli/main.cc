@@ -43,6 +43,7 @@ constexpr Command kCommands[] = {
     {"play", "FILE", "serve a recorded log again, as a node", nullptr},
     {"sim", "WORLD", "simulate a Stage world and serve its robots", nullptr},
     {"node", "CONFIG", "run a device server (troupe-node)", nullptr},
+    {"view", "HOST", "the browser viewer for a live node", nullptr},
     {"logmap", "LOG -o MAP.png", "draw an occupancy map from a CARMEN log", nullptr},
     {"mcl-eval", "LOG", "Monte Carlo localization on a CARMEN log, scored", nullptr},
     {"ros2", "HOST", "publish every device of a node or simulator on ROS 2", nullptr},
@@ -50,8 +51,8 @@ constexpr Command kCommands[] = {
     {"goalkeeper-bench", "", "the goalkeeper benchmark table", nullptr},
     {"robocup-motion", "record|fit|check", "train and check the learned motion model", nullptr},
     {"emulate-p2os", "", "a Pioneer (P2OS) on a pseudo-terminal", nullptr},
-    {"emulate-sicklms200", "", "a SICK LMS200 on a pseudo-terminal", nullptr},
-    {"odrive-emu", "--can IFACE", "ODrive axes on a CAN bus", nullptr},
+    {"emulate-sick", "", "a SICK LMS200 on a pseudo-terminal", nullptr},
+    {"emulate-odrive", "--can IFACE", "ODrive axes on a CAN bus", nullptr},
 };
 
 std::string usage_text() {
@@ -121,19 +122,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "help") {
-    if (const char* text = troupe::cli::help_text(args[0])) {
-      fputs(text, stdout);
-      return 0;
-    }
-    return run_external(args[0], {"--help"});
-  }
-  for (const std::string& a : args) {
-    if (a == "--help" || a == "-h") {
-      if (const char* text = troupe::cli::help_text(command)) {
-        fputs(text, stdout);
-        return 0;
-      }
-    }
+    command = args[0];
+    args = {"--help"};
   }
   for (const Command& c : kCommands) {
     if (c.run != nullptr && command == c.name) return c.run(args);

@@ -36,15 +36,26 @@ constexpr int kResendMs = 100;
 }  // namespace
 
 int cmd_teleop(const std::vector<std::string>& args) {
-  if (args.size() != 2) return usage_error("teleop", "want HOST and ADDR (a position2d device)");
+  std::string host, device;
+  auto app = make_app(
+      "troupe teleop",
+      {"troupe teleop HOST[:PORT] ADDR",
+       "Drives a position2d device from the keyboard: w/s (or up/down) change the\n"
+       "speed by 0.1 m/s, a/d (or left/right) the turn rate by 0.2 rad/s, space stops,\n"
+       "q quits (and stops the robot). The command is re-sent every 100 ms.\n",
+       {"troupe teleop localhost position2d:0",
+        "troupe teleop localhost:7000 r2/position2d:0   # robot r2 of troupe-sim --port 7000"}});
+  add_host(*app, host);
+  add_device(*app, device);
+  if (int rc = parse(*app, args); rc >= 0) return rc;
   wire::DeviceSpec spec;
   std::string error;
-  if (!wire::parse_device(args[1], spec, error)) return usage_error("teleop", error);
+  if (!wire::parse_device(device, spec, error)) return usage_error("teleop", error);
   if (spec.iface != wire::Interface::Position2d) return usage_error("teleop", "teleop drives position2d devices");
-  auto c = connect(args[0], /*reconnect=*/true);
+  auto c = connect(host, /*reconnect=*/true);
   if (!c) return kExitFailure;
   wire::Address addr;
-  if (!resolve(*c, args[1], addr)) return kExitFailure;
+  if (!resolve(*c, device, addr)) return kExitFailure;
   client::Position2dProxy base(*c, addr);
   if (!base.is_open()) return fail(wire::format_address(addr) + ": " + c->error());
 

@@ -9,20 +9,19 @@
 //   while (client.spin_once(100)) printf("x=%.2f\n", base.x());
 #pragma once
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "wire/client/proxy.h"
+#include "wire/geometry.h"
 
 namespace troupe::client {
 
 /// A pose or velocity in the plane: m, m, rad (or per second).
-struct Pose2 {
-  float x = 0, y = 0, a = 0;
-};
+using Pose2 = geometry::Pose2;
 
 class Position2dProxy final : public Proxy {
  public:
@@ -131,10 +130,13 @@ class FiducialProxy final : public Proxy {
   explicit FiducialProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
   /// Detections in the sensor frame: id, x (m), y (m), yaw (rad).
   const std::vector<wire::Fiducial>& fiducials() const { return fiducials_; }
+  /// What detection i is (ball, goal, ...; Generic when the sender did not say).
+  wire::FiducialKind kind(size_t i) const { return i < kinds_.size() ? kinds_[i] : wire::FiducialKind::Generic; }
 
  private:
   void update(const wire::Message& msg) override;
   std::vector<wire::Fiducial> fiducials_;
+  std::vector<wire::FiducialKind> kinds_;
 };
 
 class ActuatorProxy final : public Proxy {
@@ -178,6 +180,8 @@ class LocalizeProxy final : public Proxy {
   explicit LocalizeProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
   /// Pose hypotheses, best first (map frame; m, rad).
   const std::vector<wire::Hypothesis>& hypotheses() const { return hypotheses_; }
+  /// The localizer says it is lost: the hypotheses are not to be trusted.
+  bool lost() const { return lost_; }
   /// Starts pose tracking from a pose (m, m, rad) with a diagonal
   /// covariance: standard deviations in m, m, rad.
   bool set_pose(float x, float y, float a, float sx, float sy, float sa);
@@ -187,6 +191,7 @@ class LocalizeProxy final : public Proxy {
  private:
   void update(const wire::Message& msg) override;
   std::vector<wire::Hypothesis> hypotheses_;
+  bool lost_ = false;
 };
 
 /// An occupancy grid fetched whole from a map device.

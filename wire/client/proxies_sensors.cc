@@ -89,6 +89,12 @@ void FiducialProxy::update(const wire::Message& msg) {
   const wire::FiducialList* s = msg.body_as_FiducialList();
   if (s == nullptr) return;
   copy_structs(s->fiducials(), fiducials_);
+  kinds_.assign(fiducials_.size(), wire::FiducialKind::Generic);
+  if (const auto* kinds = s->kinds()) {
+    for (size_t i = 0; i < kinds_.size() && i < kinds->size(); ++i) {
+      kinds_[i] = wire::FiducialKind(kinds->Get(flatbuffers::uoffset_t(i)));
+    }
+  }
 }
 
 ImuProxy::ImuProxy(Client& client, uint16_t index, uint16_t robot)

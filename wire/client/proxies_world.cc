@@ -16,6 +16,7 @@ void LocalizeProxy::update(const wire::Message& msg) {
   const wire::LocalizeState* s = msg.body_as_LocalizeState();
   if (s == nullptr) return;
   copy_structs(s->hypotheses(), hypotheses_);
+  lost_ = s->lost();
 }
 
 bool LocalizeProxy::set_pose(float x, float y, float a, float sx, float sy, float sa) {

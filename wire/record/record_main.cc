@@ -2,99 +2,52 @@
 // received and with receive times, to a troupe log.
 #include <signal.h>
 
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <string>
 
 #include "runtime/log.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
+#include "wire/cli/args.h"
 #include "wire/record/recorder.h"
-
-namespace {
-
-const char kUsage[] =
-    "usage: troupe record HOST[:PORT] ADDR... -o FILE [--duration S] [--count N]\n"
-    "\n"
-    "Records the data of the given devices, frame by frame as the node sends it and\n"
-    "with the time each frame arrived, into FILE: a troupe log that `troupe play`\n"
-    "serves again. Stops after --duration seconds, after --count frames, or on\n"
-    "Ctrl-C. A lost connection is re-established and the recording goes on.\n"
-    "ADDR is [ROBOT/]INTERFACE:INDEX, e.g. position2d:0 or r3/ranger:1.\n"
-    "\n"
-    "  -o, --output FILE  the log to write (replaced if it exists)\n"
-    "  --duration S       stop after S seconds\n"
-    "  --count N          stop after N data frames\n"
-    "  --timeout S        wait this long for the node to connect and reply (default 3)\n"
-    "  --log-level LEVEL  error, warn, info (default) or debug\n"
-    "\n"
-    "examples:\n"
-    "  troupe record localhost position2d:0 ranger:0 -o run1.trl\n"
-    "  troupe record robot7.local:6670 r0/ranger:1 -o laser.trl --duration 60\n"
-    "  troupe record localhost position2d:0 -o ten.trl --count 10\n";
-
-int usage_error(const std::string& message) {
-  fprintf(stderr, "troupe record: %s (see: troupe record --help)\n", message.c_str());
-  return 2;
-}
-
-bool parse_number(const char* text, double min, double& out) {
-  char* end = nullptr;
-  out = strtod(text, &end);
-  return end != text && *end == '\0' && std::isfinite(out) && out >= min;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-record");
   signal(SIGPIPE, SIG_IGN);
   troupe::record::RecordOptions options;
-  std::string host;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    auto value = [&](const char*& out) {
-      if (i + 1 >= argc) return false;
-      out = argv[++i];
-      return true;
-    };
-    const char* v = nullptr;
-    double d = 0;
-    if (a == "-h" || a == "--help") {
-      fputs(kUsage, stdout);
-      return 0;
-    } else if (a == "-o" || a == "--output") {
-      if (!value(v)) return usage_error(a + " needs a file name");
-      options.output = v;
-    } else if (a == "--duration") {
-      if (!value(v) || !parse_number(v, 0, d) || d <= 0) return usage_error("--duration needs seconds > 0");
-      options.duration_s = d;
-    } else if (a == "--count") {
-      if (!value(v) || !parse_number(v, 1, d) || d != std::floor(d))
-        return usage_error("--count needs a whole number >= 1");
-      options.max_frames = uint64_t(d);
-    } else if (a == "--timeout") {
-      if (!value(v) || !parse_number(v, 0, d) || d <= 0 || d > 3600)
-        return usage_error("--timeout needs seconds in (0, 3600]");
-      options.timeout_ms = int(d * 1000);
-    } else if (a == "--log-level") {
-      troupe::LogLevel level{};
-      if (!value(v) || !troupe::parse_log_level(v, level))
-        return usage_error("--log-level needs error, warn, info or debug");
-      troupe::set_log_level(level);
-    } else if (a.size() > 1 && a[0] == '-') {
-      return usage_error("unknown option '" + a + "'");
-    } else if (host.empty()) {
-      host = a;
-    } else {
-      options.devices.push_back(a);
-    }
-  }
+  std::string host, level;
+  double duration_s = 0, timeout_s = 3;
+  auto app = troupe::cli::make_app(
+      "troupe record",
+      {"troupe record HOST[:PORT] ADDR... -o FILE [--duration S] [--count N]",
+       "Records the data of the given devices, frame by frame as the node sends it and\n"
+       "with the time each frame arrived, into FILE: a troupe log that `troupe play`\n"
+       "serves again. Stops after --duration seconds, after --count frames, or on\n"
+       "Ctrl-C. A lost connection is re-established and the recording goes on.\n"
+       "ADDR is [ROBOT/]INTERFACE:INDEX, e.g. position2d:0 or r3/ranger:1.\n",
+       {"troupe record localhost position2d:0 ranger:0 -o run1.trl",
+        "troupe record robot7.local:6670 r0/ranger:1 -o laser.trl --duration 60",
+        "troupe record localhost position2d:0 -o ten.trl --count 10"}});
+  app->add_option("HOST", host, "HOST[:PORT]");
+  app->add_option("ADDR", options.devices, "the devices to record");
+  app->add_option("-o,--output", options.output, "the log to write (replaced if it exists)")->type_name("FILE");
+  app->add_option("--duration", duration_s, "stop after S seconds")->type_name("S")->check(troupe::cli::above(0));
+  app->add_option("--count", options.max_frames, "stop after N data frames")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
+  app->add_option("--timeout", timeout_s, "wait this long for the node to connect and reply (default 3)")
+      ->type_name("S")
+      ->check(troupe::cli::above(0) & troupe::cli::at_most(3600));
+  troupe::cli::add_log_level(*app, level);
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  auto usage_error = [&](const std::string& message) { return troupe::cli::usage_error(*app, message); };
   if (host.empty()) return usage_error("missing HOST");
   if (options.devices.empty()) return usage_error("missing ADDR: which devices to record");
   if (options.output.empty()) return usage_error("missing -o FILE");
+  options.duration_s = duration_s;
+  options.timeout_ms = int(timeout_s * 1000);
+  troupe::LogLevel log_level{};
+  if (troupe::parse_log_level(level.c_str(), log_level)) troupe::set_log_level(log_level);
   std::string error;
   troupe::wire::HostPort hp;
   if (!troupe::wire::parse_host(host, hp, error)) return usage_error(error);

@@ -72,17 +72,19 @@ class Swarm final : public sim::Controller {
   SwarmState state_;
 };
 
-}  // namespace
-}  // namespace troupe::examples
-
-TROUPE_CONTROLLER_EXPORT troupe::sim::Controller* troupe_controller_create(const char* args) {
-  troupe::sim::ControllerArgs a(args);
-  troupe::examples::SwarmParams p;
+sim::Controller* make_swarm(const char* args) {
+  sim::ControllerArgs a(args);
+  SwarmParams p;
   const bool aggregate = a.flag("aggregate"), disperse = a.flag("disperse");
   p.aggregate = aggregate;
   p.speed = a.number("speed", p.speed);
   p.spacing = a.number("spacing", p.spacing);
   p.avoid = a.number("avoid", p.avoid);
   if (!a.ok() || aggregate == disperse || p.speed < 0 || p.spacing <= 0 || p.avoid < 0) return nullptr;
-  return new troupe::examples::Swarm(p);
+  return new Swarm(p);
 }
+
+}  // namespace
+}  // namespace troupe::examples
+
+TROUPE_CONTROLLER("swarm", troupe::examples::make_swarm)

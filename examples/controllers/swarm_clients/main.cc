@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <random>
 #include <string>
@@ -21,6 +20,7 @@
 
 #include "examples/controllers/swarm/swarm_logic.h"
 #include "wire/address.h"
+#include "wire/cli/args.h"
 #include "wire/client/proxies.h"
 
 namespace {
@@ -57,13 +57,6 @@ double mean_distance(troupe::client::SimulationProxy& sim, const std::vector<Rob
   return p.size() > 1 ? sum / double(p.size()) : 0;
 }
 
-int usage() {
-  std::fprintf(stderr,
-               "usage: swarm-clients [HOST[:PORT]] [--seconds S] [--disperse] [--spacing M] [--seed N]\n"
-               "Drives every robot of a troupe-sim world with the swarm behaviour, one client each.\n");
-  return 2;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,28 +65,27 @@ int main(int argc, char** argv) {
   SwarmParams params;
   params.spacing = 0.6;
   unsigned seed = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--seconds" && i + 1 < argc) {
-      seconds = std::atof(argv[++i]);
-    } else if (a == "--spacing" && i + 1 < argc) {
-      params.spacing = std::atof(argv[++i]);
-    } else if (a == "--seed" && i + 1 < argc) {
-      seed = unsigned(std::atoi(argv[++i]));
-    } else if (a == "--disperse") {
-      params.aggregate = false;
-    } else if (a[0] == '-') {
-      return usage();
-    } else {
-      host = a;
-    }
-  }
+  auto app = troupe::cli::make_app(
+      "swarm-clients",
+      {"swarm-clients [HOST[:PORT]] [--seconds S] [--disperse] [--spacing M] [--seed N]",
+       "Drives every robot of a troupe-sim world with the swarm behaviour, one client\n"
+       "connection each, then prints how far each robot is from its nearest neighbour.\n",
+       {"swarm-clients localhost --seconds 60", "swarm-clients localhost:7000 --disperse --spacing 1.5"}});
+  app->add_option("HOST", host, "HOST[:PORT] (default localhost)");
+  app->add_option("--seconds", seconds, "how long to drive, s (default 30)")
+      ->type_name("S")
+      ->check(troupe::cli::above(0));
+  app->add_option("--spacing", params.spacing, "the distance robots keep, m (default 0.6)")
+      ->type_name("M")
+      ->check(troupe::cli::above(0));
+  app->add_option("--seed", seed, "seeds each robot's random turns (default 1)")->type_name("N");
+  bool disperse = false;
+  app->add_flag("--disperse", disperse, "spread out instead of gathering");
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  params.aggregate = !disperse;
   troupe::wire::HostPort hp;
   std::string error;
-  if (!troupe::wire::parse_host(host, hp, error)) {
-    std::fprintf(stderr, "swarm-clients: %s\n", error.c_str());
-    return 2;
-  }
+  if (!troupe::wire::parse_host(host, hp, error)) return troupe::cli::usage_error(*app, error);
   Client admin(hp.host, hp.port);
   if (!admin.connect()) {
     std::fprintf(stderr, "swarm-clients: cannot connect to %s: %s\n", host.c_str(), admin.error().c_str());

@@ -109,13 +109,15 @@ class Wander final : public sim::Controller {
   double bias_ = 0;
 };
 
-}  // namespace
-}  // namespace troupe::examples
-
-TROUPE_CONTROLLER_EXPORT troupe::sim::Controller* troupe_controller_create(const char* args) {
-  troupe::sim::ControllerArgs a(args);
+sim::Controller* make_wander(const char* args) {
+  sim::ControllerArgs a(args);
   const double speed = a.number("speed", 0.4), turn = a.number("turn", 1.0), avoid = a.number("avoid", 0.5);
   const int ranger = int(a.number("ranger", -1));
   if (!a.ok() || speed < 0 || turn < 0 || avoid < 0) return nullptr;
-  return new troupe::examples::Wander(speed, turn, avoid, ranger);
+  return new Wander(speed, turn, avoid, ranger);
 }
+
+}  // namespace
+}  // namespace troupe::examples
+
+TROUPE_CONTROLLER("wander", troupe::examples::make_wander)

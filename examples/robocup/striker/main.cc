@@ -12,49 +12,42 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 
 #include "examples/robocup/striker/striker.h"
 #include "wire/address.h"
+#include "wire/cli/args.h"
 
 using namespace troupe;
 
 int main(int argc, char** argv) {
-  wire::HostPort host;
-  host.host = "127.0.0.1";
+  std::string node = "127.0.0.1";
   examples::StrikerOptions options;
   double seconds = 0;
   bool pull = false, lockstep = false;
+  std::string team = "yellow";
+  auto app = cli::make_app(
+      "troupe robocup-striker",
+      {"troupe robocup-striker [HOST[:PORT]] [--robot NAME] [--team blue|yellow] [--seconds S] [--pull]\n"
+       "                              [--lockstep]",
+       "Drives one robot of a RoboCup match served by troupe-sim (troupe sim WORLD) as\n"
+       "a striker, printing what it does once a second, and a summary at the end.\n",
+       {"troupe robocup-striker localhost", "troupe-robocup-striker localhost --robot blue2 --team blue --lockstep"}});
+  app->add_option("HOST", node, "HOST[:PORT] of the match (default 127.0.0.1)");
+  app->add_option("--robot", options.robot, "the robot to drive (default yellow3)")->type_name("NAME");
+  app->add_option("--team", team, "its team: blue or yellow (default yellow)")
+      ->type_name("TEAM")
+      ->check(CLI::IsMember({"blue", "yellow"}));
+  app->add_option("--seconds", seconds, "stop after S seconds of simulated time (default: run until interrupted)")
+      ->type_name("S")
+      ->check(cli::above(0));
+  app->add_flag("--pull", pull, "ask for each update instead of having data pushed");
+  app->add_flag("--lockstep", lockstep, "pause the simulator and step it one cycle per decision (runs repeat)");
+  if (int rc = cli::parse(*app, argc, argv); rc >= 0) return rc;
+  options.team = team == "blue" ? examples::Team::Blue : examples::Team::Yellow;
+  wire::HostPort host;
   std::string error;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--robot" && has_value) {
-      options.robot = argv[++i];
-    } else if (arg == "--team" && has_value) {
-      const std::string team = argv[++i];
-      if (team != "blue" && team != "yellow") {
-        std::fprintf(stderr, "troupe-robocup-striker: --team is blue or yellow, not '%s'\n", team.c_str());
-        return 2;
-      }
-      options.team = team == "blue" ? client::Team::Blue : client::Team::Yellow;
-    } else if (arg == "--seconds" && has_value) {
-      seconds = std::atof(argv[++i]);
-    } else if (arg == "--pull") {
-      pull = true;
-    } else if (arg == "--lockstep") {
-      lockstep = true;
-    } else if (arg[0] != '-' && wire::parse_host(arg, host, error)) {
-      continue;
-    } else {
-      std::fprintf(stderr,
-                   "usage: troupe-robocup-striker [HOST[:PORT]] [--robot NAME] [--team blue|yellow] "
-                   "[--seconds S] [--pull] [--lockstep]\n%s%s",
-                   error.c_str(), error.empty() ? "" : "\n");
-      return 2;
-    }
-  }
+  if (!wire::parse_host(node, host, error)) return cli::usage_error(*app, error);
   client::Client client(host.host, host.port);
   if (!client.connect()) {
     std::fprintf(stderr, "troupe-robocup-striker: %s\n", client.error().c_str());
@@ -73,7 +66,7 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("driving %s (team %s) on %s; simulated time %.2f s\n", options.robot.c_str(),
-              options.team == client::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
+              options.team == examples::Team::Blue ? "blue" : "yellow", client.node_name().c_str(),
               double(sim.sim_time_us()) * 1e-6);
   if (lockstep && !sim.pause()) {
     std::fprintf(stderr, "troupe-robocup-striker: cannot pause the simulator: %s\n", client.error().c_str());

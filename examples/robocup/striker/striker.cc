@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+
+#include "wire/geometry.h"
 
 namespace troupe::examples {
 namespace {
 
-double wrap(double a) {
-  return std::remainder(a, 2 * std::numbers::pi);
-}
+using geometry::wrap_angle;
 
 /// Drive towards a robot-frame point: turn towards it, go forward as far
 /// as it lies ahead.
@@ -34,7 +33,7 @@ StrikerAction decide(const StrikerOptions& o, bool ball_seen, double ball_distan
   const double bx = ball_distance * std::cos(ball_bearing), by = ball_distance * std::sin(ball_bearing);
   const bool goal_seen = goal_distance > 0;
   // Lined up: ball and goal in nearly the same direction, ball in front.
-  const bool aligned = !goal_seen || std::abs(wrap(ball_bearing - goal_bearing)) < 0.3;
+  const bool aligned = !goal_seen || std::abs(wrap_angle(ball_bearing - goal_bearing)) < 0.3;
   if (ball_distance < o.kick_distance && std::abs(ball_bearing) < 0.35 && aligned) {
     StrikerAction a = drive_to(o, bx, by, 0.5);
     a.kick = true;

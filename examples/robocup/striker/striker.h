@@ -8,13 +8,13 @@
 #include <memory>
 #include <string>
 
-#include "wire/client/sensor_container.h"
+#include "examples/robocup/sensor_container.h"
 
 namespace troupe::examples {
 
 struct StrikerOptions {
   std::string robot = "yellow3";
-  client::Team team = client::Team::Yellow;
+  Team team = Team::Yellow;
   /// m/s, rad/s.
   double max_speed = 1.5, max_turn = 4;
   /// Centre-to-centre distance at which the ball touches the kicker, m.
@@ -46,12 +46,12 @@ class Striker {
   StrikerAction tick();
   /// Kicks fired so far.
   uint32_t kicks() const { return kicks_; }
-  client::SensorContainer& sensors() { return sensors_; }
+  SensorContainer& sensors() { return sensors_; }
 
  private:
   client::Client& client_;
   StrikerOptions options_;
-  client::SensorContainer sensors_;
+  SensorContainer sensors_;
   client::Position2dProxy* base_ = nullptr;
   client::ActuatorProxy* kicker_ = nullptr;
   uint32_t kicks_ = 0;

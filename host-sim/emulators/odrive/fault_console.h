@@ -1,5 +1,5 @@
 // Fault injection by typed commands, for trying a driver against the
-// emulator by hand (troupe-odrive-emu reads them from its standard input):
+// emulator by hand (troupe-emulate-odrive reads them from its standard input):
 //
 //   silent NODE on|off      the node stops sending and hearing (cable off)
 //   error NODE BITS [keep]  sets axis error bits (hex or decimal), "keep": the

@@ -1,9 +1,9 @@
-// troupe-odrive-emu: ODrive axes on a CAN bus, for trying the odrive_can
+// troupe-emulate-odrive: ODrive axes on a CAN bus, for trying the odrive_can
 // driver without hardware.
 //
-//   troupe-odrive-emu --can vcan0 [options]            on a SocketCAN interface
-//   troupe-odrive-emu [options] -- COMMAND [ARGS...]   on a socketpair whose other
-//                                                      end COMMAND gets as descriptor 3
+//   troupe-emulate-odrive --can vcan0 [options]           on a SocketCAN interface
+//   troupe-emulate-odrive [options] -- COMMAND [ARGS...]  on a socketpair whose other
+//                                                         end COMMAND gets as descriptor 3
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <sys/socket.h>
@@ -28,7 +28,7 @@ using troupe::emulators::odrive::EmulatorOptions;
 using troupe::emulators::odrive::OdriveEmulator;
 
 const char kUsage[] =
-    "usage: troupe-odrive-emu [--can IFACE | --descriptor FD] [options] [-- COMMAND [ARGS...]]\n"
+    "usage: troupe-emulate-odrive [--can IFACE | --descriptor FD] [options] [-- COMMAND [ARGS...]]\n"
     "\n"
     "Emulates ODrive axes (CAN Simple protocol): heartbeats every 100 ms, encoder\n"
     "estimates every 10 ms, closed-loop velocity control with a wheel's physics.\n"
@@ -50,11 +50,11 @@ const char kUsage[] =
     "error NODE BITS [keep], clear NODE, reboot NODE, drop P, garbage NODE N, status.\n"
     "\n"
     "examples:\n"
-    "  troupe-odrive-emu -- troupe-node examples/nodes/odrive_emulated.json\n"
-    "  troupe-odrive-emu --can vcan0 --nodes 0,1 --watchdog-ms 300\n";
+    "  troupe-emulate-odrive -- troupe-node examples/nodes/odrive_emulated.json\n"
+    "  troupe-emulate-odrive --can vcan0 --nodes 0,1 --watchdog-ms 300\n";
 
 [[noreturn]] void usage_error(const char* what) {
-  fprintf(stderr, "troupe-odrive-emu: %s\n%s", what, kUsage);
+  fprintf(stderr, "troupe-emulate-odrive: %s\n%s", what, kUsage);
   exit(2);
 }
 
@@ -138,7 +138,7 @@ class Watch final : public troupe::FdHandler, public troupe::TimerHandler {
 }  // namespace
 
 int main(int argc, char** argv) {
-  troupe::set_log_program("troupe-odrive-emu");
+  troupe::set_log_program("troupe-emulate-odrive");
   signal(SIGPIPE, SIG_IGN);
   std::string ifname;
   int descriptor = -1;
@@ -207,13 +207,13 @@ int main(int argc, char** argv) {
   if (!ifname.empty()) {
     fd = troupe::cansimple::open_can_socket(ifname, {}, error);
     if (fd < 0) {
-      fprintf(stderr, "troupe-odrive-emu: %s\n", error.c_str());
+      fprintf(stderr, "troupe-emulate-odrive: %s\n", error.c_str());
       return 1;
     }
   } else if (command != nullptr) {
     int pair[2];
     if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, pair) != 0) {
-      perror("troupe-odrive-emu: socketpair");
+      perror("troupe-emulate-odrive: socketpair");
       return 1;
     }
     fd = pair[0];
@@ -222,12 +222,12 @@ int main(int argc, char** argv) {
       sigprocmask(SIG_UNBLOCK, &set, nullptr);
       dup2(pair[1], 3);  // dup2 clears close-on-exec on the copy
       execvp(command[0], command);
-      fprintf(stderr, "troupe-odrive-emu: cannot run %s: %s\n", command[0], strerror(errno));
+      fprintf(stderr, "troupe-emulate-odrive: cannot run %s: %s\n", command[0], strerror(errno));
       _exit(127);
     }
     close(pair[1]);
     if (child < 0) {
-      perror("troupe-odrive-emu: fork");
+      perror("troupe-emulate-odrive: fork");
       return 1;
     }
   }
@@ -247,7 +247,7 @@ int main(int argc, char** argv) {
   OdriveEmulator emu(loop, fd, options);
   emu.set_drop_probability(drop);
   if (!emu.start(error)) {
-    fprintf(stderr, "troupe-odrive-emu: %s\n", error.c_str());
+    fprintf(stderr, "troupe-emulate-odrive: %s\n", error.c_str());
     return 1;
   }
 

@@ -46,8 +46,13 @@ bool OdriveEmulator::start(std::string& error) {
   uint64_t now = loop_.now_us();
   for (Slot& s : slots_) s.axis.step(now);
   estimates_timer_ = loop_.start_timer(options_.estimates_period_us, options_.estimates_period_us, this);
-  heartbeat_timer_ = loop_.start_timer(options_.heartbeat_period_us, options_.heartbeat_period_us, this);
-  if (estimates_timer_ == 0 || heartbeat_timer_ == 0) {
+  // A heartbeat period that is a whole number of estimate periods rides on
+  // the estimates' tick, as one firmware clock would send them: a loaded host
+  // that skips a tick then skips both, and the two streams keep their ratio.
+  const uint64_t e = options_.estimates_period_us, h = options_.heartbeat_period_us;
+  heartbeat_every_ = (e > 0 && h >= e && h % e == 0) ? uint32_t(h / e) : 0;
+  if (heartbeat_every_ == 0) heartbeat_timer_ = loop_.start_timer(h, h, this);
+  if (estimates_timer_ == 0 || (heartbeat_every_ == 0 && heartbeat_timer_ == 0)) {
     error = "no timer left in the loop";
     return false;
   }
@@ -155,6 +160,11 @@ void OdriveEmulator::on_timer(TimerId id) {
     update_bus();
     for (Slot& s : slots_) {
       if (!s.silent) send(s.axis.encoder_estimates());
+    }
+    if (heartbeat_every_ != 0 && ++ticks_ % heartbeat_every_ == 0) {
+      for (Slot& s : slots_) {
+        if (!s.silent) send(s.axis.heartbeat());
+      }
     }
   } else if (id == heartbeat_timer_) {
     for (Slot& s : slots_) {

@@ -93,6 +93,9 @@ class OdriveEmulator final : public FdHandler, public TimerHandler {
   std::mt19937_64 rng_;
   double drop_p_ = 0;
   TimerId estimates_timer_ = 0, heartbeat_timer_ = 0;
+  // Heartbeats ride on every n-th estimates tick (0: their own timer).
+  uint32_t heartbeat_every_ = 0;
+  uint64_t ticks_ = 0;  // estimates ticks since start
   EmulatorCounters counters_;
 };
 

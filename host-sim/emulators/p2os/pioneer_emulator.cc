@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drivers/p2os/p2os_config_packet.h"
+#include "runtime/log.h"
+
 namespace troupe::emulators {
 
 using drivers::p2os::Command;
@@ -11,51 +14,56 @@ using drivers::p2os::Packet;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
 // Heading counts per turn: the firmware sends 0..4095.
 constexpr int kHeadingCounts = 4096;
 // A partial packet is dropped after this long without a byte, us. At 9600
 // baud bytes come every millisecond.
 constexpr uint64_t kPacketGapUs = 50'000;
-
-double approach(double current, double target, double max_change) {
-  return current + std::clamp(target - current, -max_change, max_change);
-}
+// HOSTBAUD's argument indexes these, bit/s.
+constexpr uint32_t kHostBauds[] = {9600, 19200, 38400, 57600, 115200};
 
 }  // namespace
 
 PioneerEmulator::PioneerEmulator(Config config, PioneerWorld* world)
-    : config_(std::move(config)),
+    : SerialEmulator(config.seed, config.check_baud),
+      config_(std::move(config)),
       world_(world ? world : &default_world_),
-      faults_(config_.seed),
-      inbound_faults_(config_.seed + 1) {
+      baud_(config_.baud) {
   robot_ = drivers::p2os::find_robot(config_.model);
   if (robot_ == nullptr) robot_ = drivers::p2os::find_robot("p3dx-sh");
+  motion_.half_track = 1.0 / robot_->diff_conv / 1000.0;
+  motion_.wheel_max = robot_->max_speed;
+  reset_limits();
 }
 
-bool PioneerEmulator::open(const std::string& link, std::string& error) {
-  link_ = link;
-  return port_.open(link, error);
+void PioneerEmulator::reset_limits() {
+  motion_.limits.trans_vel_max = robot_->max_speed;
+  motion_.limits.trans_accel = motion_.limits.trans_decel = config_.accel;
+  motion_.limits.rot_vel_max = robot_->max_turn_rate;
+  motion_.limits.rot_accel = motion_.limits.rot_decel = config_.rot_accel_deg * kDegToRad;
 }
 
-void PioneerEmulator::vanish() {
-  port_.close();
-}
-
-bool PioneerEmulator::reappear(std::string& error) {
-  scanner_.reset();
-  return port_.open(link_, error);
+void PioneerEmulator::set_sim_laser(LaserWorld* laser) {
+  sim_laser_.attach(laser);
 }
 
 void PioneerEmulator::power_cycle() {
   close_session();
-  left_ = right_ = 0;
+  motion_.halt();
   pose_ = {};
+  baud_ = config_.baud;
+  bump_stall_ = 0;
+  polling_size_ = 0;
+  reset_limits();
 }
 
-bool PioneerEmulator::baud_mismatch() const {
-  if (!config_.check_baud) return false;
-  uint32_t host = port_.host_baud();
-  return host != 0 && host != config_.baud;
+void PioneerEmulator::on_heard(std::span<const uint8_t> bytes) {
+  drivers::p2os::scan_packets(scanner_, bytes, [this](std::span<const uint8_t> p) { receive(p); });
+}
+
+void PioneerEmulator::on_stale_partial() {
+  drivers::p2os::expire_packets(scanner_, [this](std::span<const uint8_t> p) { receive(p); });
 }
 
 void PioneerEmulator::step(uint64_t now_us) {
@@ -64,27 +72,13 @@ void PioneerEmulator::step(uint64_t now_us) {
     last_step_us_ = last_packet_us_ = now_us;
   }
   now_us_ = now_us;
-  uint8_t buf[256], heard[256];
-  bool heard_any = false;
-  for (size_t n; (n = port_.read(buf)) > 0; heard_any = true) {
-    std::span<uint8_t> bytes(heard, inbound_faults_.apply({buf, n}, heard));
-    if (baud_mismatch()) faults_.mangle(bytes);
-    drivers::p2os::scan_packets(scanner_, bytes, [this](std::span<const uint8_t> p) { receive(p); });
-  }
-  // The firmware's receiver forgets a packet whose bytes stop coming, so a
-  // corrupted count cannot hold the next commands back.
-  if (heard_any) {
-    last_byte_us_ = now_us;
-  } else if (scanner_.partial() && now_us - last_byte_us_ > kPacketGapUs) {
-    drivers::p2os::expire_packets(scanner_, [this](std::span<const uint8_t> p) { receive(p); });
-  }
+  listen(now_us, kPacketGapUs);
   double dt = double(now_us - last_step_us_) * 1e-6;
   last_step_us_ = now_us;
   if (session_ == Session::Open && now_us - last_packet_us_ > config_.watchdog_us &&
-      (target_left_ != 0 || target_right_ != 0)) {
+      (motion_.target_left() != 0 || motion_.target_right() != 0 || motion_.left() != 0 || motion_.right() != 0)) {
     // Nobody is talking to the robot: it stops rather than run away.
-    set_wheel_targets(0, 0);
-    vel_mm_s_ = rvel_deg_s_ = 0;
+    motion_.stop();
     watchdog_tripped_ = true;
   }
   move(dt);
@@ -157,74 +151,139 @@ void PioneerEmulator::receive(std::span<const uint8_t> p) {
 }
 
 void PioneerEmulator::obey(std::span<const uint8_t> p) {
+  if (sim_laser_.obey(p)) return;
   drivers::p2os::CommandArg arg = drivers::p2os::parse_arg(p);
-  const double div = robot_->vel2_divisor;
+  const int value = arg.present ? arg.value : 0;
+  const double heading = pose_.a;
+  // Motion commands move only a robot whose motors are on.
+  // A motion command counts when it carries its argument; it clears a
+  // tripped watchdog.
+  auto accepted = [&] {
+    watchdog_tripped_ = false;
+    return arg.present;
+  };
   switch (Command(p[0])) {
     case Command::Pulse:
       return;  // feeds the watchdog, as every packet does
+    case Command::Open:
+      return;  // already open
     case Command::Close:
       return close_session();
     case Command::Enable:
-      motors_enabled_ = arg.present && arg.value != 0;
-      if (!motors_enabled_) {
-        vel_mm_s_ = rvel_deg_s_ = 0;
-        set_wheel_targets(0, 0);
-      }
+      motors_enabled_ = value != 0;
+      if (!motors_enabled_) motion_.halt();
       return;
+    case Command::Sonar:
+      sonar_enabled_ = value != 0;
+      return;
+    case Command::Polling: {
+      // A string of transducer numbers, 1-based, in firing order.
+      if (p.size() < 3 || p[1] != uint8_t(drivers::p2os::ArgType::String)) return;
+      size_t n = std::min<size_t>({p[2], p.size() - 3, PioneerSenses::kMaxSonar});
+      polling_size_ = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (p[3 + i] >= 1 && p[3 + i] <= robot_->sonar_count) polling_[polling_size_++] = uint8_t(p[3 + i] - 1);
+      }
+      next_sonar_ = 0;
+      return;
+    }
     case Command::SetO:
       pose_ = {};
+      if (motion_.rot_mode() == PioneerMotion::Rot::Heading) motion_.set_heading(0);
+      return;
+    case Command::SetV:
+      if (arg.present) motion_.limits.trans_vel_max = std::min(std::abs(value) / 1000.0, double(robot_->max_speed));
+      return;
+    case Command::SetRv:
+      if (arg.present) motion_.limits.rot_vel_max = std::min(std::abs(value) * kDegToRad, double(robot_->max_turn_rate));
+      return;
+    case Command::SetA:
+      // A positive argument sets the acceleration, a negative one the
+      // deceleration; 0 keeps the value in force.
+      if (value > 0) motion_.limits.trans_accel = value / 1000.0;
+      if (value < 0) motion_.limits.trans_decel = -value / 1000.0;
+      return;
+    case Command::SetRA:
+      if (value > 0) motion_.limits.rot_accel = value * kDegToRad;
+      if (value < 0) motion_.limits.rot_decel = -value * kDegToRad;
       return;
     case Command::Vel:
-    case Command::RVel: {
-      if (!arg.present) return;
-      (Command(p[0]) == Command::Vel ? vel_mm_s_ : rvel_deg_s_) = arg.value;
-      double turn_mm_s = rvel_deg_s_ * kPi / 180.0 / robot_->diff_conv;
-      watchdog_tripped_ = false;
-      return set_wheel_targets(vel_mm_s_ - turn_mm_s, vel_mm_s_ + turn_mm_s);
-    }
-    case Command::Vel2: {
-      if (!arg.present) return;
-      // The argument's two bytes are signed wheel speeds: right low, left high.
-      double right = int8_t(arg.lo) * div, left = int8_t(arg.hi) * div;
-      vel_mm_s_ = 0.5 * (left + right);
-      rvel_deg_s_ = 0.5 * (right - left) * robot_->diff_conv * 180.0 / kPi;
-      watchdog_tripped_ = false;
-      return set_wheel_targets(left, right);
-    }
-    case Command::Sonar:
-      sonar_enabled_ = arg.present && arg.value != 0;
+      if (accepted()) motion_.set_velocity(value / 1000.0);
       return;
+    case Command::RVel:
+    case Command::Rotate:
+      if (accepted()) motion_.set_turn_rate(value * kDegToRad);
+      return;
+    case Command::Move:
+      if (!accepted()) return;
+      motion_.move(value / 1000.0);
+      travelled_ = 0;
+      return;
+    case Command::Head:
+      if (accepted()) motion_.set_heading(value * kDegToRad);
+      return;
+    case Command::DHead:
+      if (accepted()) motion_.set_heading(heading + value * kDegToRad);
+      return;
+    case Command::DcHead:
+      if (accepted()) motion_.set_heading(motion_.heading_setpoint(heading) + value * kDegToRad);
+      return;
+    case Command::Vel2: {
+      if (!accepted()) return;
+      // The argument's two bytes are signed wheel speeds: right low, left high.
+      const double div = robot_->vel2_divisor / 1000.0;
+      return motion_.set_wheels(int8_t(arg.hi) * div, int8_t(arg.lo) * div);
+    }
     case Command::Stop:
-      vel_mm_s_ = rvel_deg_s_ = 0;
-      return set_wheel_targets(0, 0);
+      return motion_.stop();
+    case Command::EStop:
+      return motion_.halt();
+    case Command::BumpStall:
+      bump_stall_ = uint8_t(std::clamp(value, 0, 3));
+      return;
+    case Command::Config:
+      return send_config();
+    case Command::HostBaud:
+      // The reply-less switch: the next byte comes at the new speed.
+      if (value >= 0 && value < int(std::size(kHostBauds))) baud_ = kHostBauds[value];
+      return;
     default:
-      return;  // SETA, SETV, SETRA, GYRO, ...: accepted, not modelled
+      return unmodelled(p[0]);
   }
 }
 
-void PioneerEmulator::set_wheel_targets(double left_mm_s, double right_mm_s) {
-  double max = robot_->max_speed;
-  target_left_ = std::clamp(left_mm_s / 1000.0, -max, max);
-  target_right_ = std::clamp(right_mm_s / 1000.0, -max, max);
+void PioneerEmulator::unmodelled(uint8_t command) {
+  ++unmodelled_;
+  if (unmodelled_logged_[command]) return;
+  unmodelled_logged_[command] = true;
+  log_warn("p2os emulator %s: command %s (%u) is not modelled; ignored", config_.name.c_str(),
+           drivers::p2os::command_name(command), unsigned(command));
 }
 
 void PioneerEmulator::close_session() {
   session_ = Session::WaitSync0;
   motors_enabled_ = false;
   sonar_enabled_ = false;
-  vel_mm_s_ = rvel_deg_s_ = 0;
-  set_wheel_targets(0, 0);
+  motion_.halt();
 }
 
 void PioneerEmulator::move(double dt) {
   if (dt <= 0) return;
-  bool driving = session_ == Session::Open && motors_enabled_;
-  double step = config_.accel * dt;
-  left_ = approach(left_, driving ? target_left_ : 0, step);
-  right_ = approach(right_, driving ? target_right_ : 0, step);
-  double track_m = 2.0 / robot_->diff_conv / 1000.0;
-  stalled_ = world_->move(left_, right_, track_m, dt, pose_);
-  if (stalled_) left_ = right_ = 0;
+  const bool driving = session_ == Session::Open && motors_enabled_;
+  if (!driving) motion_.halt();
+  const PioneerPose before = pose_;
+  motion_.update(dt, pose_.a, travelled_);
+  double track_m = 2 * motion_.half_track;
+  stalled_ = world_->move(motion_.left(), motion_.right(), track_m, dt, pose_);
+  const bool bumped = ((bump_stall_ & 1) && senses_.front_bumpers) || ((bump_stall_ & 2) && senses_.rear_bumpers);
+  if (stalled_ || bumped) {
+    stalled_ = true;
+    motion_.halt();
+  }
+  // A MOVE counts the distance the wheels really covered (in the next
+  // update).
+  travelled_ = std::hypot(pose_.x - before.x, pose_.y - before.y);
+  if (motion_.v() < 0) travelled_ = -travelled_;
 }
 
 void PioneerEmulator::reply(std::span<const uint8_t> payload) {
@@ -233,27 +292,16 @@ void PioneerEmulator::reply(std::span<const uint8_t> payload) {
 }
 
 void PioneerEmulator::send_packet(const Packet& packet) {
-  if (mute_ || !port_.is_open()) return;
   uint8_t out[drivers::p2os::kMaxPacketBytes];
-  size_t n = faults_.apply(packet.view(), out);
-  if (baud_mismatch()) faults_.mangle({out, n});
-  port_.write({out, n});
-}
-
-void PioneerEmulator::inject_noise(size_t bytes) {
-  uint8_t out[256];
-  while (bytes > 0 && port_.is_open()) {
-    size_t n = std::min(bytes, sizeof out);
-    faults_.noise({out, n});
-    port_.write({out, n});
-    bytes -= n;
-  }
+  size_t n = through_faults(packet.view(), out);
+  garble_if_mismatched({out, n});
+  write_line({out, n});
 }
 
 void PioneerEmulator::send_sip() {
   world_->sense(pose_, *robot_, senses_);
   drivers::p2os::Sip sip;
-  bool moving = std::fabs(left_) > 1e-4 || std::fabs(right_) > 1e-4;
+  bool moving = std::fabs(left_mps()) > 1e-4 || std::fabs(right_mps()) > 1e-4;
   sip.type = moving ? 0x33 : 0x32;
   // Counters are the pose in robot units; x and y keep 15 bits and wrap.
   sip.x = uint16_t(std::lround(pose_.x * 1000.0 / robot_->dist_conv) & 0x7FFF);
@@ -261,18 +309,23 @@ void PioneerEmulator::send_sip() {
   double a = std::fmod(pose_.a, 2 * kPi);
   if (a < 0) a += 2 * kPi;
   sip.heading = int16_t(std::lround(a / robot_->angle_conv) % kHeadingCounts);
-  sip.left_vel = int16_t(std::lround(left_ * 1000.0 / robot_->vel_conv));
-  sip.right_vel = int16_t(std::lround(right_ * 1000.0 / robot_->vel_conv));
+  sip.left_vel = int16_t(std::lround(left_mps() * 1000.0 / robot_->vel_conv));
+  sip.right_vel = int16_t(std::lround(right_mps() * 1000.0 / robot_->vel_conv));
   sip.battery = uint8_t(std::clamp(std::lround(senses_.battery_v * 10.0), 0L, 255L));
   sip.left_stall = sip.right_stall = stalled_;
   sip.front_bumpers = senses_.front_bumpers & 0x7F;
   sip.rear_bumpers = senses_.rear_bumpers & 0x7F;
+  // The heading setpoint, in heading counts.
+  double set = std::fmod(motion_.heading_setpoint(pose_.a), 2 * kPi);
+  if (set < 0) set += 2 * kPi;
+  sip.control = uint16_t(std::lround(set / robot_->angle_conv) % kHeadingCounts);
   sip.flags = motors_enabled_ ? 1 : 0;
   if (sonar_enabled_ && robot_->sonar_count > 0) {
-    int n = std::clamp(config_.sonars_per_sip, 0, int(robot_->sonar_count));
+    size_t ring = polling_size_ > 0 ? polling_size_ : robot_->sonar_count;
+    int n = std::clamp(config_.sonars_per_sip, 0, int(ring));
     for (int k = 0; k < n; ++k) {
-      int i = next_sonar_;
-      next_sonar_ = (next_sonar_ + 1) % int(robot_->sonar_count);
+      size_t i = polling_size_ > 0 ? polling_[next_sonar_] : next_sonar_;
+      next_sonar_ = (next_sonar_ + 1) % ring;
       double mm = std::min(double(senses_.sonar_m[i]), double(robot_->sonar_max_range)) * 1000.0;
       sip.sonar[k] = {uint8_t(i), uint16_t(std::lround(std::max(mm, 0.0) / robot_->range_conv))};
     }
@@ -286,6 +339,37 @@ void PioneerEmulator::send_sip() {
     send_packet(packet);
     ++sips_sent_;
   }
+  if (sim_laser_.mode() != 0) {
+    sim_laser_.scan(int(std::lround(pose_.x * 1000)), int(std::lround(pose_.y * 1000)),
+                    int(std::lround(std::remainder(pose_.a, 2 * kPi) / kDegToRad)), moving,
+                    [this](const Packet& p) { send_packet(p); });
+  }
+}
+
+void PioneerEmulator::send_config() {
+  auto deg = [](double rad) { return int(std::lround(rad / kDegToRad)); };
+  auto mm = [](double m) { return int(std::lround(m * 1000)); };
+  const MotionLimits& l = motion_.limits;
+  drivers::p2os::ConfigPacket c;
+  c.robot_class = config_.robot_class;
+  c.subclass = config_.model;
+  c.name = config_.name;
+  c.rot_vel_top = deg(robot_->max_turn_rate);
+  c.trans_vel_top = mm(robot_->max_speed);
+  c.rot_accel_top = deg(std::max(l.rot_accel, l.rot_decel));
+  c.trans_accel_top = mm(std::max(l.trans_accel, l.trans_decel));
+  c.sip_cycle_ms = int(config_.sip_period_us / 1000);
+  c.host_baud_index = int(std::find(std::begin(kHostBauds), std::end(kHostBauds), baud_) - std::begin(kHostBauds));
+  c.front_sonar = c.rear_sonar = robot_->sonar_count > 0;
+  c.watchdog_ms = int(config_.watchdog_us / 1000);
+  c.rot_vel_max = deg(l.rot_vel_max);
+  c.trans_vel_max = mm(l.trans_vel_max);
+  c.rot_accel = deg(l.rot_accel);
+  c.rot_decel = deg(l.rot_decel);
+  c.trans_accel = mm(l.trans_accel);
+  c.trans_decel = mm(l.trans_decel);
+  Packet packet;
+  if (drivers::p2os::write_config_packet(c, packet)) send_packet(packet);
 }
 
 }  // namespace troupe::emulators

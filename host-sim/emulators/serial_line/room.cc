@@ -1,5 +1,7 @@
 #include "host-sim/emulators/serial_line/room.h"
 
+#include "host-sim/emulators/serial_line/laser_world.h"
+
 #include <cmath>
 #include <limits>
 
@@ -15,6 +17,11 @@ double Room::range(double x, double y, double a) const {
   if (dy > 1e-12) best = std::fmin(best, (half_y - y) / dy);
   if (dy < -1e-12) best = std::fmin(best, (-half_y - y) / dy);
   return best;
+}
+
+void LaserWorld::measure(double first, double step, std::span<float> ranges) {
+  for (size_t i = 0; i < ranges.size(); ++i)
+    ranges[i] = float(room.range(x, y, a + first + double(i) * step));
 }
 
 }  // namespace troupe::emulators

@@ -25,34 +25,14 @@ bool valid_variant(uint16_t width, uint16_t res) {
 
 }  // namespace
 
-void SickWorld::measure(double first, double step, std::span<float> ranges) {
-  for (size_t i = 0; i < ranges.size(); ++i)
-    ranges[i] = float(room.range(x, y, a + first + double(i) * step));
-}
-
 SickEmulator::SickEmulator(Config config, SickWorld* world)
-    : config_(std::move(config)),
+    : SerialEmulator(config.seed, config.check_baud),
+      config_(std::move(config)),
       world_(world ? world : &default_world_),
-      faults_(config_.seed),
-      inbound_faults_(config_.seed + 1),
       baud_(config_.power_up_baud),
       width_deg_(config_.width_deg),
       resolution_cdeg_(config_.resolution_cdeg) {
   config_block_[sick::kConfigUnits] = uint8_t(config_.units);
-}
-
-bool SickEmulator::open(const std::string& link, std::string& error) {
-  link_ = link;
-  return port_.open(link, error);
-}
-
-void SickEmulator::vanish() {
-  port_.close();
-}
-
-bool SickEmulator::reappear(std::string& error) {
-  scanner_.reset();
-  return port_.open(link_, error);
 }
 
 void SickEmulator::power_cycle() {
@@ -63,38 +43,36 @@ void SickEmulator::power_cycle() {
   scanner_.reset();
 }
 
-bool SickEmulator::baud_mismatch() const {
-  if (!config_.check_baud) return false;
-  uint32_t host = port_.host_baud();
-  return host != 0 && host != baud_;
+void SickEmulator::on_heard(std::span<const uint8_t> bytes) {
+  uint32_t bad = scanner_.bad_crcs();
+  sick::scan_telegrams(scanner_, bytes, [this](std::span<const uint8_t> body) { obey(body); });
+  // A telegram that framed but failed its CRC is answered NACK.
+  if (scanner_.bad_crcs() != bad && mode_ != Mode::Starting) send_byte(sick::kNack);
+}
+
+void SickEmulator::on_stale_partial() {
+  sick::expire_telegrams(scanner_, [this](std::span<const uint8_t> body) { obey(body); });
 }
 
 void SickEmulator::step(uint64_t now_us) {
   if (!started_) {
     started_ = true;
-    last_step_us_ = last_byte_us_ = now_us;
+    last_step_us_ = now_us;
   }
-  uint8_t buf[256], heard[256];
-  bool heard_any = false;
-  for (size_t n; (n = port_.read(buf)) > 0; heard_any = true) {
-    std::span<uint8_t> bytes(heard, inbound_faults_.apply({buf, n}, heard));
-    if (baud_mismatch()) faults_.mangle(bytes);
-    uint32_t bad = scanner_.bad_crcs();
-    sick::scan_telegrams(scanner_, bytes, [this](std::span<const uint8_t> body) { obey(body); });
-    // A telegram that framed but failed its CRC is answered NACK.
-    if (scanner_.bad_crcs() != bad) send_byte(sick::kNack);
-  }
-  if (heard_any) {
-    last_byte_us_ = now_us;
-  } else if (scanner_.partial() && now_us - last_byte_us_ > kTelegramGapUs) {
-    sick::expire_telegrams(scanner_, [this](std::span<const uint8_t> body) { obey(body); });
-  }
+  now_us_ = now_us;
+  listen(now_us, kTelegramGapUs);
   drain(now_us);
-  if (mode_ == Mode::Continuous && queue_size_ == queue_head_ && pending_baud_ == 0 &&
-      now_us >= next_scan_us_) {
+  if (mode_ == Mode::Starting && now_us >= ready_at_us_ && queue_size_ == queue_head_) {
+    // Restarted: at its power-up speed, it says what it is.
+    power_cycle();
+    reply(sick::kPowerOnReply, {reinterpret_cast<const uint8_t*>(config_.type.data()), config_.type.size()});
+  }
+  const bool streaming = mode_ == Mode::Continuous || mode_ == Mode::MeanValues;
+  if (streaming && queue_size_ == queue_head_ && pending_baud_ == 0 && now_us >= next_scan_us_) {
     send_scan();
     // Keep the scanner's own rhythm; after an idle spell, start it afresh.
-    uint64_t period = uint64_t(1e6 / config_.max_scan_rate_hz);
+    // A mean over N scans takes N scan periods.
+    uint64_t period = uint64_t(1e6 / config_.max_scan_rate_hz) * (mode_ == Mode::MeanValues ? mean_samples_ : 1);
     next_scan_us_ = next_scan_us_ + period > now_us ? next_scan_us_ + period : now_us + period;
   }
 }
@@ -116,9 +94,9 @@ void SickEmulator::drain(uint64_t now_us) {
   if (n == 0) return;
   credit_bytes_ -= double(n);
   uint8_t* out = queue_ + queue_head_;
-  if (baud_mismatch()) faults_.mangle({out, n});
+  garble_if_mismatched({out, n});
   // What the pty does not take is lost, as bytes nobody reads are.
-  if (!mute_) port_.write({out, n});
+  write_line({out, n});
   queue_head_ += n;
   if (queue_head_ == queue_size_) queue_head_ = queue_size_ = 0;
 }
@@ -143,34 +121,30 @@ void SickEmulator::reply(uint8_t code, std::span<const uint8_t> data) {
   sick::Telegram t;
   if (!sick::make_reply(code, data, 0, t)) return;
   uint8_t out[sick::kMaxTelegramBytes];
-  send_byte(sick::kAck);
-  queue({out, faults_.apply(t.view(), out)});
-}
-
-void SickEmulator::inject_noise(size_t bytes) {
-  uint8_t out[256];
-  while (bytes > 0) {
-    size_t n = std::min(bytes, sizeof out);
-    faults_.noise({out, n});
-    queue({out, n});
-    bytes -= n;
-  }
+  if (code != sick::kPowerOnReply) send_byte(sick::kAck);
+  queue({out, through_faults(t.view(), out)});
 }
 
 void SickEmulator::obey(std::span<const uint8_t> body) {
+  if (mode_ == Mode::Starting) return;  // deaf while it restarts
   const uint8_t code = body[0];
   std::span<const uint8_t> data = body.subspan(1);
   switch (sick::Request(code)) {
+    case sick::Request::Reset:
+      reply(sick::kResetReply, {});
+      mode_ = Mode::Starting;
+      ready_at_us_ = now_us_ + config_.startup_us;
+      return;
     case sick::Request::ModeChange:
       return mode_change(data);
     case sick::Request::OneScan:
       if (mode_ == Mode::Installation) break;
       send_byte(sick::kAck);
       return send_scan();
-    case sick::Request::Status: {
-      const uint8_t status[1] = {0};
-      return reply(sick::reply_code(sick::Request::Status), status);
-    }
+    case sick::Request::Status:
+      return send_status();
+    case sick::Request::Errors:
+      return reply(sick::reply_code(sick::Request::Errors), {});  // none logged
     case sick::Request::Type:
       return reply(sick::reply_code(sick::Request::Type),
                    {reinterpret_cast<const uint8_t*>(config_.type.data()), config_.type.size()});
@@ -189,13 +163,14 @@ void SickEmulator::obey(std::span<const uint8_t> body) {
     case sick::Request::ReadConfig:
       return reply(sick::reply_code(sick::Request::ReadConfig), config_block_);
     case sick::Request::WriteConfig: {
-      // The configuration is written only in configuration mode.
-      if (mode_ != Mode::Installation || data.size() != sick::kConfigBytes) break;
+      // The configuration is written only in configuration mode, as the
+      // listing's 32 bytes or later firmware's 34.
+      if (mode_ != Mode::Installation || (data.size() != 32 && data.size() != sick::kConfigBytes)) break;
       bool ok = data[sick::kConfigUnits] <= uint8_t(Units::Decimetres);
       if (ok) std::copy(data.begin(), data.end(), config_block_);
       uint8_t answer[1 + sick::kConfigBytes] = {uint8_t(ok ? 1 : 0)};
-      std::copy(std::begin(config_block_), std::end(config_block_), answer + 1);
-      return reply(sick::reply_code(sick::Request::WriteConfig), answer);
+      std::copy_n(config_block_, data.size(), answer + 1);
+      return reply(sick::reply_code(sick::Request::WriteConfig), {answer, 1 + data.size()});
     }
   }
   send_byte(sick::kNack);
@@ -217,6 +192,9 @@ void SickEmulator::mode_change(std::span<const uint8_t> data) {
       case sick::Mode::Baud9600:
         pending_baud_ = 9600;
         break;
+      case sick::Mode::Baud19200:
+        pending_baud_ = 19200;
+        break;
       case sick::Mode::Baud38400:
         pending_baud_ = 38400;
         break;
@@ -228,6 +206,14 @@ void SickEmulator::mode_change(std::span<const uint8_t> data) {
         break;
       case sick::Mode::StopContinuous:
         mode_ = Mode::Monitor;
+        break;
+      case sick::Mode::MeanValues:
+        if (data.size() == 2 && data[1] >= 2 && data[1] <= 250) {
+          mode_ = Mode::MeanValues;
+          mean_samples_ = data[1];
+        } else {
+          result = kModeUnsupported;
+        }
         break;
       default:
         result = kModeUnsupported;
@@ -250,13 +236,41 @@ void SickEmulator::send_scan() {
     last_scan_[i] = v >= sick::kNoReturn || !std::isfinite(v) ? sick::kNoReturn : uint16_t(std::max(v, 0.0));
   }
   last_count_ = count;
-  uint8_t data[2 + 2 * sick::kMaxScanValues];
-  size_t size = sick::write_scan({last_scan_, count}, units, data);
+  // A mean-values telegram leads with its sample count; the world holds
+  // still between the samples of one mean, so the mean is the scan.
+  const bool mean = mode_ == Mode::MeanValues;
+  uint8_t data[3 + 2 * sick::kMaxScanValues] = {mean_samples_};
+  size_t size = sick::write_scan({last_scan_, count}, units, {data + (mean ? 1 : 0), sizeof data - 1});
   sick::Telegram t;
-  if (size == 0 || !sick::make_reply(sick::kScanReply, {data, size}, 0, t)) return;
+  if (size == 0 || !sick::make_reply(mean ? sick::kMeanScanReply : sick::kScanReply,
+                                     {data, size + (mean ? 1 : 0)}, 0, t))
+    return;
   uint8_t out[sick::kMaxTelegramBytes];
-  queue({out, faults_.apply(t.view(), out)});
+  queue({out, through_faults(t.view(), out)});
   ++scans_sent_;
+}
+
+void SickEmulator::send_status() {
+  // The status block as sicktoolbox reads it (data offsets; its payload
+  // offsets are one more): software version 0-6, operating mode 7, status
+  // 8 (0: fine), variant 17, measuring mode 101, scan angle 106-107 and
+  // resolution 108-109 (LE16, degrees and 1/100 degree), restart mode 110,
+  // address 119, units 121, laser on 122, boot version 123-129.
+  uint8_t b[sick::kStatusBytes] = {};
+  auto le16 = [&](size_t at, uint16_t v) {
+    b[at] = uint8_t(v & 0xFF);
+    b[at + 1] = uint8_t(v >> 8);
+  };
+  std::string version = (config_.version + "       ").substr(0, 7);
+  std::copy(version.begin(), version.end(), b);
+  b[7] = uint8_t(mode_);
+  b[101] = config_block_[5];  // measuring mode, as configured
+  le16(106, width_deg_);
+  le16(108, resolution_cdeg_);
+  b[121] = config_block_[sick::kConfigUnits];
+  b[122] = 1;
+  std::copy(version.begin(), version.end(), b + 123);
+  reply(sick::reply_code(sick::Request::Status), b);
 }
 
 }  // namespace troupe::emulators

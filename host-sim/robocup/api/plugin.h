@@ -1,49 +1,45 @@
-// The plugin contract. A plugin is a shared library named
-// troupe_robocup_<name>.so that exports one C function,
+// The contract of RoboCup sensor, motion and player plugins. A plugin is a
+// shared library <name>.so of the project's one plugin ABI
+// (host-sim/plugin/plugin_abi.h): it exports
 //
-//   extern "C" const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1();
+//   TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
+//     return troupe::robocup::plugin_info<SensorPlugin, MyCamera>(PluginKind::Sensor, "my_camera");
+//   }
 //
-// returning what it is and how to make one; plugin_info<>() below builds
-// that answer (TROUPE_ROBOCUP_EXPORT makes the function visible when the
-// library hides everything else). The simulator finds the library on its plugin path, checks
-// the API version and the kind, and makes one instance per use (a sensor
-// on a robot, a robot's motion model, a running player). Every instance is
-// configured from its options first; a false answer names the problem and
-// the simulator goes on without that instance.
+// The simulator finds the library on the plugin path, checks the ABI, the
+// kind and this interface's version (kPluginApiVersion), and makes one
+// instance per use (a sensor on a robot, a robot's motion model, a running
+// player). Every instance is configured from its options first; a false
+// answer names the problem and the simulator goes on without that instance.
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <span>
 #include <string>
 #include <string_view>
 
+#include "host-sim/plugin/plugin_abi.h"
 #include "host-sim/robocup/api/options.h"
 #include "host-sim/robocup/api/sensor_data.h"
 #include "host-sim/robocup/api/world_view.h"
+#include "runtime/random.h"
 
 namespace troupe::robocup {
 
-inline constexpr uint32_t kPluginApiVersion = 1;
-inline constexpr const char* kPluginEntrySymbol = "troupe_robocup_plugin_v1";
+/// The version of the interfaces below (TroupePluginInfo::interface_version).
+/// 2: Rng became the project's counter-based RandomSequence.
+inline constexpr uint32_t kPluginApiVersion = 2;
 
-enum class PluginKind : uint32_t { Sensor = 1, Motion = 2, Player = 3 };
-
-inline const char* plugin_kind_name(PluginKind k) {
-  switch (k) {
-    case PluginKind::Sensor:
-      return "sensor";
-    case PluginKind::Motion:
-      return "motion";
-    case PluginKind::Player:
-      return "player";
-  }
-  return "unknown";
-}
+enum class PluginKind : uint32_t {
+  Sensor = TROUPE_PLUGIN_SENSOR,
+  Motion = TROUPE_PLUGIN_MOTION,
+  Player = TROUPE_PLUGIN_PLAYER,
+};
 
 /// The random generator every plugin instance is handed: seeded from the
-/// world's seed, the robot and the instance, so a run repeats exactly.
-using Rng = std::mt19937_64;
+/// world's seed, the robot and the instance, so a run repeats exactly, with
+/// the same numbers on every platform (the project's one generator).
+using Rng = RandomSequence;
 
 // ---- Sensors ----------------------------------------------------------------
 
@@ -134,25 +130,12 @@ class PlayerPlugin {
 
 // ---- The entry point --------------------------------------------------------
 
-struct PluginInfo {
-  uint32_t api_version;
-  PluginKind kind;
-  const char* name;
-  /// A new instance as the kind's interface pointer (SensorPlugin*, ...).
-  void* (*create)();
-  /// Deletes an instance made by create(), inside the plugin's library.
-  void (*destroy)(void*);
-};
-
-/// Marks a plugin's entry function: C linkage, visible from the library.
-#define TROUPE_ROBOCUP_EXPORT extern "C" __attribute__((visibility("default")))
-
-/// The PluginInfo of `Impl`, which implements `Interface`.
+/// The TroupePluginInfo of `Impl`, which implements `Interface`.
 template <class Interface, class Impl>
-const PluginInfo* plugin_info(PluginKind kind, const char* name) {
-  static const PluginInfo info{kPluginApiVersion, kind, name,
-                               []() -> void* { return static_cast<Interface*>(new Impl()); },
-                               [](void* p) { delete static_cast<Interface*>(p); }};
+const TroupePluginInfo* plugin_info(PluginKind kind, const char* name) {
+  static const TroupePluginInfo info{TROUPE_PLUGIN_ABI_VERSION, uint32_t(kind), kPluginApiVersion, name,
+                                     [](const char*) -> void* { return static_cast<Interface*>(new Impl()); },
+                                     [](void* p) { delete static_cast<Interface*>(p); }};
   return &info;
 }
 

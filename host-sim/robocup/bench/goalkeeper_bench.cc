@@ -56,16 +56,15 @@ Options options_of(const std::vector<std::pair<std::string, std::string>>& extra
 std::vector<ShotSetup> shot_setups(const BenchSettings& s, const FieldSpec& field, uint64_t seed) {
   // Its own generator: the shots of a seed do not depend on the policy.
   Rng rng(seed * 0x9E3779B97F4A7C15ull + 0x5EED);
-  std::uniform_real_distribution<double> dist(s.min_distance, s.max_distance),
-      angle(-s.max_angle, s.max_angle), aim(-s.max_aim, s.max_aim);
   std::vector<ShotSetup> out;
   const double margin = 0.45;
   for (int i = 0; i < s.shots; ++i) {
-    const double d = dist(rng), a = angle(rng);
+    const double d = rng.uniform(s.min_distance, s.max_distance);
+    const double a = rng.uniform(-s.max_angle, s.max_angle);
     ShotSetup shot;
     shot.ball = {-field.length / 2 + d * std::cos(a),
                  std::clamp(d * std::sin(a), -field.width / 2 + margin, field.width / 2 - margin)};
-    shot.aim_y = aim(rng);
+    shot.aim_y = rng.uniform(-s.max_aim, s.max_aim);
     out.push_back(shot);
   }
   return out;
@@ -79,8 +78,7 @@ bool run_goalkeeper_bench(const WorldSpec& world, const BenchSettings& s, std::v
       spec.seed = seed;
       spec.referee.goal_pause_s = 0;
       for (RobotEntry& r : spec.robots) r.has_player = false;
-      PluginLoader loader;
-      loader.prepend_path(s.plugin_path);
+      PluginLoader loader(plugin::search_path(s.plugin_path));
       std::unique_ptr<Simulation> sim = Simulation::create(std::move(spec), std::move(loader), error);
       if (!sim) return false;
       const int keeper = sim->find_robot(s.keeper_robot), striker = sim->find_robot(s.striker_robot);

@@ -136,7 +136,7 @@ bool Console::execute(const Statement& c, std::string& error) {
 
 bool Console::execute_script(const std::string& text, const std::string& name, std::string& error) {
   std::vector<Statement> commands;
-  if (!parse_config_text(text, name, commands, error)) return false;
+  if (!parse_commands(text, name, commands, error)) return false;
   for (const Statement& c : commands) {
     if (!execute(c, error)) return false;
     if (quit_) break;

@@ -13,7 +13,7 @@
 #include <functional>
 #include <string>
 
-#include "host-sim/robocup/game/config_text.h"
+#include "host-sim/robocup/game/statement.h"
 #include "host-sim/robocup/game/simulation.h"
 
 namespace troupe::robocup {

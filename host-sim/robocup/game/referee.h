@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "host-sim/robocup/api/world_view.h"
-#include "host-sim/robocup/game/config_text.h"
+#include "host-sim/robocup/game/statement.h"
 #include "host-sim/robocup/game/field.h"
 
 namespace troupe::robocup {

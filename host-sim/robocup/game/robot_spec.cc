@@ -20,7 +20,7 @@ bool read_kicker(const Statement& st, KickerSpec& k, std::string& error) {
     return fail(st, st.args.empty() ? error : "unexpected words", error);
   for (const Statement& c : st.children) {
     if (c.keyword != "state") return fail(c, "only `state` statements belong in a kicker", error);
-    if (c.args.size() != 1) return fail(c, "a state needs one name", error);
+    if (c.args.size() != 1) return fail(c, "a state needs a name: name \"rest\"", error);
     KickerState s;
     s.name = c.args[0];
     Options so = c.reader();
@@ -55,7 +55,7 @@ bool read_kicker(const Statement& st, KickerSpec& k, std::string& error) {
 }  // namespace
 
 bool read_shape(const Statement& st, Shape& out, std::string& error) {
-  if (st.args.size() != 1) return fail(st, "say which: rect, circle, ellipse, triangle or polygon", error);
+  if (st.args.size() != 1) return fail(st, "say which: kind \"rect\" (or circle, ellipse, triangle, polygon)", error);
   Options o = st.reader();
   const std::string& kind = st.args[0];
   const Vec2 at{o.number("x", 0), o.number("y", 0)};
@@ -95,7 +95,7 @@ bool read_shape(const Statement& st, Shape& out, std::string& error) {
 }
 
 bool read_plugin(const Statement& st, PluginSpec& p, std::string& error) {
-  if (st.args.size() != 1) return fail(st, "name the plugin: `" + st.keyword + " NAME key=value ...`", error);
+  if (st.args.size() != 1) return fail(st, "name the plugin: plugin \"NAME\"", error);
   p.plugin = st.args[0];
   p.where = st.where();
   p.name = p.plugin;
@@ -156,12 +156,6 @@ bool read_robot(const std::vector<Statement>& statements, const std::string& fil
     return false;
   }
   return true;
-}
-
-bool load_robot_file(const std::string& path, RobotSpec& out, std::string& error) {
-  std::vector<Statement> st;
-  if (!parse_config_file(path, st, error)) return false;
-  return read_robot(st, path, out, error);
 }
 
 }  // namespace troupe::robocup

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "host-sim/robocup/api/options.h"
-#include "host-sim/robocup/game/config_text.h"
+#include "host-sim/robocup/game/statement.h"
 #include "host-sim/robocup/physics/shape.h"
 
 namespace troupe::robocup {
@@ -84,6 +84,5 @@ bool read_shape(const Statement& statement, Shape& out, std::string& error);
 bool read_plugin(const Statement& statement, PluginSpec& out, std::string& error);
 bool read_robot(const std::vector<Statement>& statements, const std::string& file, RobotSpec& out,
                 std::string& error);
-bool load_robot_file(const std::string& path, RobotSpec& out, std::string& error);
 
 }  // namespace troupe::robocup

@@ -42,27 +42,18 @@ bool read_robot_entry(const Statement& st, WorldSpec& w, std::string& error) {
   RobotEntry r;
   r.where = st.where();
   if (st.args.size() != 1 || !good_name(st.args[0])) {
-    return fail(st,
-                "expected `robot NAME [file=...] team=blue|yellow` with a name of letters, digits, _ or -",
-                error);
+    return fail(st, "expected a name of letters, digits, _ or -", error);
   }
   r.name = st.args[0];
   for (const RobotEntry& other : w.robots) {
     if (other.name == r.name) return fail(st, "robot '" + r.name + "' defined twice", error);
   }
   Options o = st.reader();
-  const std::string file = o.path("file", "");
   const std::string team = o.choice("team", "blue", {"blue", "yellow"});
   r.team = team == "blue" ? Team::Blue : Team::Yellow;
   r.start = {o.number("x", 0), o.number("y", 0), o.number("a", 0, -2 * kPi, 2 * kPi)};
   if (!o.finish(error)) return fail(st, error, error);
-  // The robot's own statements: its file's, then those of the block (a
-  // block alone defines a robot inline).
   std::vector<Statement> body;
-  if (!file.empty() && !parse_config_file(file, body, error)) {
-    error = st.where() + ": robot " + r.name + ": " + error;
-    return false;
-  }
   for (const Statement& c : st.children) {
     if (c.keyword != "player") {
       body.push_back(c);
@@ -72,7 +63,7 @@ bool read_robot_entry(const Statement& st, WorldSpec& w, std::string& error) {
     if (!read_plugin(c, r.player, error)) return false;
     r.has_player = true;
   }
-  if (!read_robot(body, file.empty() ? st.where() : file, r.spec, error)) {
+  if (!read_robot(body, st.where(), r.spec, error)) {
     error = st.where() + ": robot " + r.name + ": " + error;
     return false;
   }
@@ -111,8 +102,14 @@ bool read_world(const std::vector<Statement>& statements, const std::string& fil
 
 bool load_world_file(const std::string& path, WorldSpec& out, std::string& error) {
   std::vector<Statement> st;
-  if (!parse_config_file(path, st, error)) return false;
+  if (!load_stage_file(path, st, error)) return false;
   return read_world(st, path, out, error);
+}
+
+bool parse_world_text(const std::string& text, const std::string& file, WorldSpec& out, std::string& error) {
+  std::vector<Statement> st;
+  if (!parse_stage_text(text, file, st, error)) return false;
+  return read_world(st, file, out, error);
 }
 
 }  // namespace troupe::robocup

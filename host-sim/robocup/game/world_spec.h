@@ -1,18 +1,15 @@
 // World files: the physics settings, the field, the ball, the referee and
-// the robots (each from a robot file, with a team, a start pose and an
-// optional player plugin). README.md ("World files") has the syntax:
+// the robots (each with a team, a start pose and an optional player
+// plugin). They are Stage world files; README.md ("World files") has the
+// models:
 //
-//   world cycle=0.01 restitution=0.5 friction=0.2 seed=1
+//   interval_sim 10   restitution 0.5   friction 0.2   seed 1
 //   plugin_path "plugins"
-//   field length=9 width=5
-//   ball radius=0.11 mass=0.43 deceleration=0.4 x=0 y=0
-//   referee goal_pause=1
-//   robot blue1 file="robots/keeper.robot" team=blue x=-4.2 y=0 a=0 {
-//     player goalkeeper policy=block
-//   }
-//
-// A robot's block may also hold robot-file statements (shape, kicker,
-// motion, sensor, mass): they add to its file, or define the robot alone.
+//   include "robots/keeper.inc"            # define keeper robocup_robot ( ... )
+//   robocup_field ( length 9 width 5 )
+//   ball ( radius 0.11 mass 0.43 deceleration 0.4 pose [0 0 0 0] )
+//   referee ( goal_pause 1 )
+//   keeper ( name "blue1" team "blue" pose [-4.2 0 0 0] player ( plugin "goalkeeper" policy "block" ) )
 #pragma once
 
 #include <string>
@@ -59,6 +56,9 @@ struct WorldSpec {
 
 bool read_world(const std::vector<Statement>& statements, const std::string& file, WorldSpec& out,
                 std::string& error);
+/// A Stage world file with RoboCup models (statement.h has the mapping).
 bool load_world_file(const std::string& path, WorldSpec& out, std::string& error);
+/// The same from text, named `file` (includes resolve next to it).
+bool parse_world_text(const std::string& text, const std::string& file, WorldSpec& out, std::string& error);
 
 }  // namespace troupe::robocup

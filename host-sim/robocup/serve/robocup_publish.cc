@@ -3,7 +3,8 @@
 #include <cmath>
 
 #include "host-sim/robocup/serve/robocup_server.h"
-#include "wire/landmark_code.h"
+
+#include "host-sim/robocup/api/fiducial_key.h"
 
 namespace troupe::robocup {
 namespace {
@@ -35,6 +36,7 @@ void RobocupServer::publish() {
         break;
       case Kind::Simulation:
         publish_clock(d);
+        publish_poses(d);
         break;
     }
   }
@@ -75,14 +77,17 @@ void RobocupServer::publish_fiducials(Device& d) {
   if (!r.valid || r.time_s <= d.published_s) return;
   d.published_s = r.time_s;
   scratch_fiducials_.clear();
+  scratch_kinds_.clear();
   for (const Detection& det : r.detections) {
-    // Walls and barriers are not landmarks: a client cannot use them.
-    if (det.kind == ObjectKind::Structure) continue;
-    const int32_t code = wire::landmark_code(wire::LandmarkKind(det.kind), det.id);
-    scratch_fiducials_.emplace_back(code, float(det.x), float(det.y), float(det.yaw));
+    const std::optional<FiducialKey> key = fiducial_key(det.kind, det.id);
+    if (!key) continue;
+    scratch_fiducials_.emplace_back(key->id, float(det.x), float(det.y), float(det.yaw));
+    scratch_kinds_.push_back(key->kind);
   }
   auto& b = node_->begin();
-  auto body = wire::CreateFiducialList(b, b.CreateVectorOfStructs(scratch_fiducials_));
+  auto fiducials = b.CreateVectorOfStructs(scratch_fiducials_);
+  auto kinds = b.CreateVector(scratch_kinds_);
+  auto body = wire::CreateFiducialList(b, fiducials, kinds);
   node_->publish(d.id, uint8_t(wire::FiducialDataSub::Detections), wire::Body::FiducialList, body.Union(),
                  to_us(r.time_s));
 }

@@ -1,5 +1,5 @@
-// Requests to the served RoboCup devices: sensor geometry and the
-// simulation device (clock, poses, players, game).
+// Requests to the served RoboCup devices: motor power, sensor geometry;
+// simulation:0 goes to the one handler (robocup_models.cc).
 #include <cmath>
 #include <numbers>
 
@@ -15,7 +15,7 @@ void RobocupServer::on_request(DeviceId id, const wire::Message& req, RequestTok
   const uint8_t sub = req.header()->subtype();
   switch (d->kind) {
     case Kind::Simulation:
-      return simulation_request(req, token);
+      return sim::answer_simulation_request(*node_, control_, req, token, *this);
     case Kind::Fiducial:
     case Kind::Ranger:
       return sensor_request(*d, req, token);
@@ -84,121 +84,6 @@ void RobocupServer::sensor_request(Device& d, const wire::Message& req, RequestT
     return node_->nack(token, ErrorCode::Unsupported, "a RoboCup sensor's configuration is the robot file's");
   }
   Driver::on_request(d.id, req, token);
-}
-
-sim::SimTime RobocupServer::now() const {
-  return {sim_.time_s(), uint64_t(std::llround(sim_.time_s() / sim_.cycle_s()))};
-}
-
-void RobocupServer::simulation_request(const wire::Message& req, RequestToken token) {
-  using Sub = wire::SimulationReqSub;
-  switch (Sub(req.header()->subtype())) {
-    case Sub::Pause:
-    case Sub::Resume:
-    case Sub::GetClock:
-    case Sub::Step:
-    case Sub::SetSpeed:
-      return sim::answer_clock_request(*node_, control_, req, token, [this] { return now(); });
-    case Sub::GetPose:
-    case Sub::SetPose:
-      return pose_request(req, Sub(req.header()->subtype()) == Sub::SetPose, token);
-    case Sub::Reset:
-      // Robots and ball to their kick-off places; the score stays.
-      sim_.reset();
-      publish();
-      return sim::ack_clock(*node_, control_, token, now());
-    case Sub::StartPlayer:
-    case Sub::StopPlayer:
-      return player_request(req, token);
-    case Sub::GetGame: {
-      auto& b = node_->begin();
-      auto body = build_game(b);
-      return node_->ack(token, wire::Body::SimGame, body.Union());
-    }
-    case Sub::Models:
-      // The browser viewer's model list (footprints for drawing): not served
-      // for RoboCup fields yet.
-      return node_->nack(token, ErrorCode::Unsupported, "troupe-robocup does not list its models yet");
-  }
-  node_->nack(token, ErrorCode::Unsupported, "unknown simulation request");
-}
-
-void RobocupServer::pose_request(const wire::Message& req, bool set, RequestToken token) {
-  const wire::SimPose* body = req.body_as_SimPose();
-  const flatbuffers::String* name = set ? (body ? body->name() : nullptr)
-                                        : (req.body_as_SimModel() ? req.body_as_SimModel()->name() : nullptr);
-  if (name == nullptr) return node_->nack(token, ErrorCode::BadArgument, "needs a model name");
-  const std::string model = name->str();
-  const int robot = sim_.find_robot(model);
-  if (robot < 0 && model != "ball") {
-    return node_->nack(token, ErrorCode::BadArgument,
-                       "no model named '" + model + "' (robot names and 'ball')");
-  }
-  if (set) {
-    const wire::Pose2d* p = body->pose();
-    if (p == nullptr || !std::isfinite(p->x()) || !std::isfinite(p->y()) || !std::isfinite(p->a())) {
-      return node_->nack(token, ErrorCode::BadArgument, "needs a finite pose");
-    }
-    const wire::Pose2d* v = body->velocity();
-    if (v && (!std::isfinite(v->x()) || !std::isfinite(v->y()))) {
-      return node_->nack(token, ErrorCode::BadArgument, "needs a finite velocity");
-    }
-    if (robot >= 0) {
-      sim_.place_robot(robot, {p->x(), p->y(), p->a()});
-    } else {
-      sim_.place_ball({p->x(), p->y()}, v ? Vec2{v->x(), v->y()} : Vec2{});
-    }
-    return node_->ack(token);
-  }
-  Pose2 pose;
-  Twist vel;
-  if (robot >= 0) {
-    const RobotInfo info = sim_.robot(robot);
-    pose = info.pose;
-    vel = info.velocity;
-  } else {
-    const BallInfo ball = sim_.ball();
-    pose = {ball.position.x, ball.position.y, 0};
-    vel = {ball.velocity.x, ball.velocity.y, 0};
-  }
-  auto& b = node_->begin();
-  wire::Pose2d p(float(pose.x), float(pose.y), float(pose.a));
-  wire::Pose2d v(float(vel.vx), float(vel.vy), float(vel.w));
-  auto reply = wire::CreateSimPose(b, b.CreateString(model), &p, &v);
-  node_->ack(token, wire::Body::SimPose, reply.Union());
-}
-
-void RobocupServer::player_request(const wire::Message& req, RequestToken token) {
-  std::string error;
-  if (wire::SimulationReqSub(req.header()->subtype()) == wire::SimulationReqSub::StopPlayer) {
-    const wire::SimModel* m = req.body_as_SimModel();
-    if (m == nullptr || m->name() == nullptr)
-      return node_->nack(token, ErrorCode::BadArgument, "needs a robot name");
-    if (sim_.find_robot(m->name()->str()) < 0) {
-      return node_->nack(token, ErrorCode::BadArgument, "no robot named '" + m->name()->str() + "'");
-    }
-    sim_.stop_player(m->name()->str());
-    return node_->ack(token);
-  }
-  const wire::SimPlayer* p = req.body_as_SimPlayer();
-  if (p == nullptr || p->robot() == nullptr || p->plugin() == nullptr) {
-    return node_->nack(token, ErrorCode::BadArgument, "needs a robot and a plugin name");
-  }
-  Options options("simulation:0 StartPlayer", "");
-  if (p->options()) {
-    for (const flatbuffers::String* kv : *p->options()) {
-      const std::string text = kv ? kv->str() : std::string();
-      const size_t eq = text.find('=');
-      if (eq == std::string::npos || eq == 0) {
-        return node_->nack(token, ErrorCode::BadArgument, "option '" + text + "': expected key=value");
-      }
-      options.set(text.substr(0, eq), text.substr(eq + 1));
-    }
-  }
-  if (!sim_.start_player(p->robot()->str(), p->plugin()->str(), options, error)) {
-    return node_->nack(token, ErrorCode::BadArgument, error);
-  }
-  node_->ack(token);
 }
 
 }  // namespace troupe::robocup

@@ -6,8 +6,8 @@
 //                  commands (obeyed while no player plugin runs)
 //   actuator:0     the kicker: Kick commands, its state (robots with one)
 //   fiducial:k     the k-th iconic sensor (camera, omnivision, laser in
-//                  iconic mode): detections with landmark codes
-//                  (wire/landmark_code.h)
+//                  iconic mode): detections with their kind and id
+//                  (api/fiducial_key.h)
 //   ranger:k       the k-th range sensor (laser raw, ultrasonic)
 //   simulation:0   clock, score and game state, pause/step/speed/reset,
 //                  ground-truth poses of robots and the ball, players
@@ -24,6 +24,7 @@
 
 #include "host-sim/robocup/game/simulation.h"
 #include "host-sim/sim_control/sim_control.h"
+#include "host-sim/sim_control/sim_requests.h"
 #include "runtime/driver.h"
 #include "runtime/node.h"
 
@@ -31,7 +32,7 @@ namespace troupe::robocup {
 
 /// What the simulation device changes in the running loop (owned by the
 /// runner; the server only edits it).
-class RobocupServer final : public Driver {
+class RobocupServer final : public Driver, private sim::SimulationModels {
  public:
   RobocupServer(Simulation& sim, sim::SimControl& control);
 
@@ -72,14 +73,23 @@ class RobocupServer final : public Driver {
   void publish_ranges(Device& d);
   void publish_clock(const Device& d);
   void publish_game(const Device& d);
+  void publish_poses(const Device& d);
   flatbuffers::Offset<wire::SimGame> build_game(flatbuffers::FlatBufferBuilder& b);
 
   // robocup_requests.cc
   void sensor_request(Device& d, const wire::Message& request, RequestToken token);
-  void simulation_request(const wire::Message& request, RequestToken token);
-  void pose_request(const wire::Message& request, bool set, RequestToken token);
-  void player_request(const wire::Message& request, RequestToken token);
-  sim::SimTime now() const;
+
+  // robocup_models.cc: simulation:0 (host-sim/sim_control/sim_requests.h).
+  // Models are the robots, then the ball; Poses come in that order.
+  sim::SimTime now() const override;
+  bool get_pose(const std::string& name, Pose2& pose, bool& has_velocity, Pose2& velocity,
+                std::string& error) override;
+  bool set_pose(const std::string& name, const Pose2& pose, const Pose2* velocity, std::string& error) override;
+  flatbuffers::Offset<wire::SimModelList> models(flatbuffers::FlatBufferBuilder& b) override;
+  bool start_player(const std::string& robot, const std::string& plugin,
+                    const std::vector<std::pair<std::string, std::string>>& options, std::string& error) override;
+  bool stop_player(const std::string& robot, std::string& error) override;
+  bool game(flatbuffers::FlatBufferBuilder& b, flatbuffers::Offset<wire::SimGame>& out) override;
 
   Simulation& sim_;
   sim::SimControl& control_;
@@ -91,6 +101,8 @@ class RobocupServer final : public Driver {
   size_t game_events_ = SIZE_MAX;
   std::vector<uint16_t> scratch_ranges_;
   std::vector<wire::Fiducial> scratch_fiducials_;
+  std::vector<wire::FiducialKind> scratch_kinds_;
+  std::vector<wire::Pose2d> scratch_poses_;
 };
 
 /// How a sensor's readings go on the wire: odometry on position2d,

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runtime/clock.h"
-
 namespace troupe::robocup {
 namespace {
 
@@ -26,7 +24,7 @@ bool ServeLoop::start(const ServeOptions& options, std::string& error) {
   control_.speed = options.speed;
   control_.step = [this](uint32_t n) { step(n); };
   Node::Options no;
-  no.name = "troupe-robocup";
+  no.name = "troupe-sim";
   no.listen = options.listen;
   no.port = options.port;
   no.max_clients = uint16_t(std::min(4096, 64 + 2 * sim_.robot_count()));
@@ -37,7 +35,7 @@ bool ServeLoop::start(const ServeOptions& options, std::string& error) {
   auto server = std::make_unique<RobocupServer>(sim_, control_);
   server_ = server.get();
   if (!node_->add_driver(std::move(server), DriverSetup{}, error)) return false;
-  if (!node_->start(error)) {
+  if (options.serve && !node_->start(error)) {
     error = "cannot serve on " + options.listen + ":" + std::to_string(options.port) + ": " + error;
     return false;
   }
@@ -56,51 +54,15 @@ void ServeLoop::step(uint32_t n) {
   }
 }
 
-void ServeLoop::measure_rate() {
-  const uint64_t now = monotonic_us();
-  if (rate_wall_us_ == 0 || now - rate_wall_us_ >= 1000000) {
-    if (rate_wall_us_ != 0)
-      control_.real_time_factor = (sim_.time_s() - rate_sim_s_) / ((now - rate_wall_us_) * 1e-6);
-    rate_wall_us_ = now;
-    rate_sim_s_ = sim_.time_s();
-  }
-}
-
 void ServeLoop::run() {
-  const int64_t kMaxWaitUs = 50000;  // answer the network at least this often
-  // Real-time pacing: simulated time anchor_sim was reached at anchor_wall.
-  uint64_t anchor_wall = 0;
-  double anchor_sim = 0, anchor_speed = -1;
-  bool anchored = false;
-  while (!stop_) {
-    if (options_.seconds > 0 && sim_.time_s() + 1e-9 >= options_.seconds) break;
-    if (sim_.phase() == GamePhase::Stopped) break;
-    if (control_.paused) {
-      anchored = false;
-      node_->poll(kMaxWaitUs);
-      continue;
-    }
-    if (control_.speed > 0) {
-      const uint64_t now = monotonic_us();
-      if (!anchored || anchor_speed != control_.speed) {
-        anchor_wall = now;
-        anchor_sim = sim_.time_s();
-        anchor_speed = control_.speed;
-        anchored = true;
-      }
-      const double due = double(anchor_wall) + (sim_.time_s() - anchor_sim) / control_.speed * 1e6;
-      if (double(now) < due) {
-        node_->poll(std::min<int64_t>(kMaxWaitUs, int64_t(due - double(now)) + 1));
-        continue;
-      }
-    } else {
-      anchored = false;
-    }
-    node_->poll(0);
-    if (stop_ || control_.paused) continue;
-    step(1);
-    measure_rate();
-  }
+  sim::LoopParts parts;
+  parts.time_s = [this] { return sim_.time_s(); };
+  parts.serve = [this](int64_t wait_us) { node_->poll(wait_us); };
+  parts.step = [this] { step(1); };
+  parts.done = [this] {
+    return (options_.seconds > 0 && sim_.time_s() + 1e-9 >= options_.seconds) || sim_.phase() == GamePhase::Stopped;
+  };
+  sim::run_paced(control_, stop_, parts, rate_);
 }
 
 }  // namespace troupe::robocup

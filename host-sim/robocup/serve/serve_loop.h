@@ -1,6 +1,8 @@
-// Runs a RoboCup Simulation and serves it (RobocupServer) from one thread:
-// cycles in real time (or a multiple, or as fast as possible) between polls
-// of the network, paused and stepped through simulation:0.
+// Runs a RoboCup Simulation and serves it (RobocupServer) from one thread,
+// on the one paced loop (host-sim/sim_control/pacing.h): cycles in real
+// time (or a multiple, or as fast as possible) between polls of the
+// network, paused and stepped through simulation:0. troupe-sim runs a
+// RoboCup world with it.
 #pragma once
 
 #include <atomic>
@@ -9,6 +11,7 @@
 #include <string>
 
 #include "host-sim/robocup/serve/robocup_server.h"
+#include "host-sim/sim_control/pacing.h"
 #include "runtime/node.h"
 
 namespace troupe::robocup {
@@ -22,6 +25,8 @@ struct ServeOptions {
   bool paused = false;
   /// Stop after this much simulated time, s (0: run until stopped).
   double seconds = 0;
+  /// False: no sockets at all (batch runs); the loop still runs.
+  bool serve = true;
 };
 
 class ServeLoop {
@@ -45,7 +50,6 @@ class ServeLoop {
 
  private:
   void step(uint32_t n);
-  void measure_rate();
 
   Simulation& sim_;
   ServeOptions options_;
@@ -53,8 +57,7 @@ class ServeLoop {
   std::unique_ptr<Node> node_;
   RobocupServer* server_ = nullptr;  // owned by node_
   std::atomic<bool> stop_{false};
-  uint64_t rate_wall_us_ = 0;
-  double rate_sim_s_ = 0;
+  sim::RateMeter rate_;
 };
 
 }  // namespace troupe::robocup

@@ -124,10 +124,7 @@ int main(int argc, char** argv) {
   }
   WorldSpec world;
   std::string error;
-  std::vector<Statement> statements;
-  const bool ok = world_file.empty() ? parse_config_text(standard_bench_world(), "standard-bench.world",
-                                                         statements, error) &&
-                                           read_world(statements, "standard-bench.world", world, error)
+  const bool ok = world_file.empty() ? parse_world_text(standard_bench_world(), "standard-bench.world", world, error)
                                      : load_world_file(world_file, world, error);
   if (!ok) {
     fprintf(stderr, "troupe-goalkeeper-bench: %s\n", error.c_str());

@@ -5,13 +5,15 @@
 //   troupe-robocup-motion fit LOG --out MODEL
 //   troupe-robocup-motion check MODEL LOG
 //
-// record drives the robot of ROBOT_FILE (its motion plugin) with seeded
+// record drives the robot ROBOT_FILE defines (`define NAME robocup_robot`, NAME
+// the file's name without extension; its motion plugin) with seeded
 // random commands; a log from a real robot in the same format
 // (plugins/learned_motion/motion_model.h) trains just as well. check prints
 // how well a model predicts a log against assuming the velocity stays.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -41,7 +43,7 @@ const char kHelp[] =
     "  --out FILE    where the log (record) or the model (fit) goes\n"
     "\n"
     "examples:\n"
-    "  troupe-robocup-motion record examples/robocup/robots/pioneer.robot --seed 1 --out run.log\n"
+    "  troupe-robocup-motion record examples/robocup/robots/pioneer.inc --seed 1 --out run.log\n"
     "  troupe robocup-motion fit run.log --out pioneer.motion\n"
     "  troupe robocup-motion check pioneer.motion other-run.log\n";
 
@@ -70,10 +72,11 @@ int record(int argc, char** argv) {
   }
   WorldSpec world;
   std::string error;
-  std::vector<Statement> st;
-  const std::string text = "world seed=" + std::to_string(s.seed) +
-                           "\nreferee enabled=0\nrobot r team=blue file=\"" + std::string(argv[2]) + "\"\n";
-  if (!parse_config_text(text, "record.world", st, error) || !read_world(st, "record.world", world, error)) {
+  // The robot file defines a robot type named as the file.
+  const std::string type = std::filesystem::path(argv[2]).stem().string();
+  const std::string text = "include \"" + std::string(argv[2]) + "\"\nseed " + std::to_string(s.seed) +
+                           "\nreferee ( enabled 0 )\n" + type + " ( name \"r\" team \"blue\" )\n";
+  if (!parse_world_text(text, "record.world", world, error)) {
     fprintf(stderr, "troupe-robocup-motion: %s\n", error.c_str());
     return 2;
   }

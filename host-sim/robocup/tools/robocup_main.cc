@@ -1,30 +1,24 @@
 // troupe-robocup: runs a RoboCup world (`troupe robocup` through the CLI).
 //
 //   troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]
-//                  [--plugin-path DIR]... [--realtime] [--profile] [--quiet]
-//   troupe-robocup WORLD --serve [--port P] [--listen ADDR] [--speed X] [--paused] [--seconds S]
+//                  [--plugin-path DIR]... [--profile] [--quiet]
 //
 // Without --script or --interactive it runs S simulated seconds (default:
 // the referee's duration, else 60) as fast as it can and prints the
 // referee's events and the final score. A script or standard input holds
 // console commands (game/console.h): `start blue1 goalkeeper policy=block`,
-// `run 10`, `score`, ... With --serve it serves every robot and simulation:0
-// over the wire (serve/robocup_server.h) in real time (--speed: a multiple,
-// 0 as fast as possible) until interrupted, the referee's time is up or S
-// seconds ran. Exit status: 0 done, 1 a command failed, 2 the world could
-// not be loaded or served.
-#include <signal.h>
-
+// `run 10`, `score`, ... Serving a match over the wire, in real time and
+// with the viewer, is troupe-sim's: `troupe-sim WORLD`. Exit status: 0 done,
+// 1 a command failed, 2 the world could not be loaded.
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <thread>
 
+#include "host-sim/plugin/plugin_loader.h"
 #include "host-sim/robocup/game/console.h"
-#include "host-sim/robocup/serve/serve_loop.h"
 #include "runtime/log.h"
 
 using namespace troupe::robocup;
@@ -33,66 +27,31 @@ namespace {
 
 const char kUsage[] =
     "usage: troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]\n"
-    "                     [--plugin-path DIR]... [--realtime] [--profile] [--quiet]\n"
-    "       troupe-robocup WORLD --serve [--port P] [--listen ADDR] [--speed X] [--paused]\n"
-    "                     [--seconds S] [--plugin-path DIR]...\n";
+    "                     [--plugin-path DIR]... [--profile] [--quiet]\n";
 
 const char kHelp[] =
     "\n"
     "Runs a RoboCup F2000 world: the field, ball, robots and their plugins, and the\n"
     "referee. Without a script it runs as fast as it can and prints the referee's\n"
-    "events and the final score.\n"
+    "events and the final score. To serve a match over the wire (real time, the\n"
+    "browser viewer, clients driving robots), run it with troupe-sim instead.\n"
     "\n"
     "  --seconds S      simulated time to run, s (default: the referee's duration, else 60)\n"
     "  --seed N         seed of every random number in the run (default: the world's)\n"
     "  --script FILE    run console commands from FILE (run 10, start ROBOT PLUGIN, score, ...)\n"
     "  --interactive    run console commands typed on standard input\n"
     "  --plugin-path D  look for plugins in folder D first (repeatable)\n"
-    "  --realtime       keep to real time instead of running flat out\n"
     "  --profile        print the mean time per cycle of each phase at the end\n"
     "  --quiet          no event lines, only the final score\n"
-    "  --serve          serve every robot and simulation:0 over the wire instead\n"
-    "  --port P         with --serve: TCP port (default 6665; 0: any, printed)\n"
-    "  --listen ADDR    with --serve: address to listen on (default 127.0.0.1)\n"
-    "  --speed X        with --serve: multiple of real time (0: as fast as possible)\n"
-    "  --paused         with --serve: start paused (simulation:0 resume or step)\n"
     "\n"
     "examples:\n"
     "  troupe-robocup examples/robocup/match.world --seconds 120 --seed 4\n"
-    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n"
-    "  troupe robocup examples/robocup/match.world --serve          # then: troupe-robocup-striker localhost\n";
+    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n";
 
 /// The short usage to stderr for a mistake; the whole help to stdout when asked.
 void usage(bool asked = false) {
   fputs(kUsage, asked ? stdout : stderr);
   if (asked) fputs(kHelp, stdout);
-}
-
-ServeLoop* g_serving = nullptr;
-
-void stop_serving(int) {
-  if (g_serving) g_serving->request_stop();
-}
-
-int serve(Simulation& sim, const ServeOptions& options) {
-  ServeLoop loop(sim);
-  std::string error;
-  if (!loop.start(options, error)) {
-    fprintf(stderr, "troupe-robocup: %s\n", error.c_str());
-    return 2;
-  }
-  g_serving = &loop;
-  signal(SIGINT, stop_serving);
-  signal(SIGTERM, stop_serving);
-  // The port on its own line, so scripts and tests that asked for port 0
-  // can read it.
-  printf("listening on %s:%u\n", options.listen.c_str(), unsigned(loop.port()));
-  fflush(stdout);
-  loop.run();
-  g_serving = nullptr;
-  const Score s = sim.score();
-  printf("final: blue %d yellow %d after %.2f s simulated\n", s.blue, s.yellow, sim.time_s());
-  return 0;
 }
 
 struct Totals {
@@ -129,9 +88,7 @@ int main(int argc, char** argv) {
   std::string world_file, script;
   double seconds = -1;
   long seed = -1;
-  bool interactive = false, realtime = false, profile = false, quiet = false, serving = false;
-  ServeOptions serve_options;
-  serve_options.port = troupe::wire::kDefaultPort;
+  bool interactive = false, profile = false, quiet = false;
   std::vector<std::string> plugin_path;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -152,31 +109,14 @@ int main(int argc, char** argv) {
       plugin_path.push_back(value("a folder"));
     } else if (arg == "--interactive") {
       interactive = true;
-    } else if (arg == "--realtime") {
-      realtime = true;
     } else if (arg == "--profile") {
       profile = true;
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (arg == "--serve") {
-      serving = true;
-    } else if (arg == "--port") {
-      const long port = std::atol(value("a port"));
-      if (port < 0 || port > 65535) {
-        fprintf(stderr, "troupe-robocup: --port: %ld is not a port (0..65535)\n", port);
-        return 2;
-      }
-      serve_options.port = uint16_t(port);
-    } else if (arg == "--listen") {
-      serve_options.listen = value("an address");
-    } else if (arg == "--speed") {
-      serve_options.speed = std::atof(value("a multiple of real time"));
-      if (!(serve_options.speed >= 0)) {
-        fprintf(stderr, "troupe-robocup: --speed must be >= 0 (0: as fast as possible)\n");
-        return 2;
-      }
-    } else if (arg == "--paused") {
-      serve_options.paused = true;
+      fprintf(stderr, "troupe-robocup: to serve a match, run it with troupe-sim: troupe-sim %s\n",
+              world_file.empty() ? "WORLD" : world_file.c_str());
+      return 2;
     } else if (arg == "-h" || arg == "--help") {
       usage(true);
       return 0;
@@ -198,8 +138,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (seed >= 0) spec.seed = uint64_t(seed);
-  PluginLoader loader;
-  loader.prepend_path(plugin_path);
+  PluginLoader loader(troupe::plugin::search_path(plugin_path, folder_of(world_file)));
   std::unique_ptr<Simulation> sim = Simulation::create(std::move(spec), std::move(loader), error);
   if (!sim) {
     fprintf(stderr, "troupe-robocup: %s\n", error.c_str());
@@ -208,22 +147,13 @@ int main(int argc, char** argv) {
   if (!sim->problems().empty()) {
     fprintf(stderr, "troupe-robocup: running without %zu plugin(s), see above\n", sim->problems().size());
   }
-  if (serving) {
-    serve_options.seconds = std::max(0.0, seconds);
-    return serve(*sim, serve_options);
-  }
   Totals totals;
   const auto wall0 = std::chrono::steady_clock::now();
   const double sim0 = sim->time_s();
   Console console(*sim, [quiet](const std::string& line) {
     if (!quiet) printf("%s\n", line.c_str());
   });
-  auto pace = [&] {
-    totals.add(sim->profile());
-    if (realtime) {
-      std::this_thread::sleep_until(wall0 + std::chrono::duration<double>(sim->time_s() - sim0));
-    }
-  };
+  auto pace = [&] { totals.add(sim->profile()); };
   int status = 0;
   if (!script.empty() || interactive) {
     std::ifstream file;
@@ -242,7 +172,7 @@ int main(int argc, char** argv) {
     while (!console.quit() && std::getline(*in, line)) {
       ++number;
       std::vector<Statement> commands;
-      if (!parse_config_text(line, name, commands, error)) {
+      if (!parse_commands(line, name, commands, error)) {
         fprintf(stderr, "troupe-robocup: %s\n", error.c_str());
         status = 1;
         if (!interactive) break;

@@ -44,7 +44,8 @@ struct Scene {
 
 struct Run {
   double mean_m = 0, max_m = 0, mean_deg = 0;
-  double lock_s = -1;  // global: s until the error stays under 0.25 m; -1: never
+  double lock_s = -1;    // global: s until the error stays under 0.25 m; -1: never
+  double said_lost = 0;  // share of the steps after which the filter said it was lost
 };
 
 double odom_error = 0.05;  // the robots' odom_error, each axis (x, y, heading)
@@ -97,7 +98,7 @@ Run run(const Scene& scene, const desktop::OccupancyGrid& map, uint64_t seed, bo
   std::unique_ptr<sim::World> w = sim::World::load(scene.world_path, seed, diags);
   sim::ControllerHost host;
   sim::ControllerHost::Options copt;
-  copt.search_path = {std::string(TROUPE_BINARY_DIR) + "/controllers"};
+  copt.search_path = {std::string(TROUPE_BINARY_DIR) + "/lib/troupe"};
   if (!w || !host.load(*w, copt, diags)) {
     std::fprintf(stderr, "%s: cannot load:\n%s\n", scene.world_path.c_str(), diags.str().c_str());
     std::exit(1);
@@ -139,12 +140,14 @@ Run run(const Scene& scene, const desktop::OccupancyGrid& map, uint64_t seed, bo
     desktop::Pose2 best = filter.best();
     double e = std::hypot(best.x - s.pose.x, best.y - s.pose.y);
     err.push_back(e);
+    r.said_lost += filter.lost() ? 1 : 0;
     r.mean_m += e;
     r.max_m = std::max(r.max_m, e);
     r.mean_deg += std::fabs(desktop::wrap_angle(best.a - s.pose.a)) * 180 / kPi;
   }
   r.mean_m /= double(err.size());
   r.mean_deg /= double(err.size());
+  r.said_lost /= double(err.size());
   size_t lock = err.size();
   for (size_t i = err.size(); i-- > 0 && err[i] < 0.25;) lock = i;
   r.lock_s = lock < err.size() ? double(lock + 1) * w->interval() : -1;
@@ -185,25 +188,29 @@ void table(const Scene& scene, int seeds, double seconds) {
   std::printf("%s: troupe-sim engine, wander controller, %.0f s at 10 Hz, odom_error %.2f, %s\n\n",
               scene.name.c_str(), seconds, odom_error, params);
   std::printf(
-      "| seed | tracking mean_m | tracking max_m | tracking mean_deg | global: converged after s |\n");
-  std::printf("|---:|---:|---:|---:|---:|\n");
-  std::vector<double> means, maxes, degs, locks;
+      "| seed | tracking mean_m | tracking max_m | tracking mean_deg | tracking said_lost "
+      "| global: converged after s |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|\n");
+  std::vector<double> means, maxes, degs, locks, lost;
   for (int seed = 1; seed <= seeds; ++seed) {
     Run tr = run(scene, map, uint64_t(seed), false, seconds);
     Run gl = run(scene, map, uint64_t(seed), true, seconds);
     char lock[32];
     std::snprintf(lock, sizeof lock, gl.lock_s < 0 ? "never" : "%.1f", gl.lock_s);
-    std::printf("| %d | %.3f | %.3f | %.2f | %s |\n", seed, tr.mean_m, tr.max_m, tr.mean_deg, lock);
+    std::printf("| %d | %.3f | %.3f | %.2f | %.3f | %s |\n", seed, tr.mean_m, tr.max_m, tr.mean_deg,
+                tr.said_lost, lock);
     std::fflush(stdout);
+    lost.push_back(tr.said_lost);
     means.push_back(tr.mean_m);
     maxes.push_back(tr.max_m);
     degs.push_back(tr.mean_deg);
     locks.push_back(gl.lock_s < 0 ? INFINITY : gl.lock_s);
   }
-  std::printf("| median | %.3f | %.3f | %.2f | %.1f |\n", median(means), median(maxes), median(degs),
-              median(locks));
-  std::printf("| worst | %.3f | %.3f | %.2f | %.1f |\n\n", *std::max_element(means.begin(), means.end()),
-              *std::max_element(maxes.begin(), maxes.end()), *std::max_element(degs.begin(), degs.end()),
+  std::printf("| median | %.3f | %.3f | %.2f | %.3f | %.1f |\n", median(means), median(maxes), median(degs),
+              median(lost), median(locks));
+  std::printf("| worst | %.3f | %.3f | %.2f | %.3f | %.1f |\n\n",
+              *std::max_element(means.begin(), means.end()), *std::max_element(maxes.begin(), maxes.end()),
+              *std::max_element(degs.begin(), degs.end()), *std::max_element(lost.begin(), lost.end()),
               *std::max_element(locks.begin(), locks.end()));
 }
 

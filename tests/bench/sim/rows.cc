@@ -47,7 +47,7 @@ std::unique_ptr<World> load(const std::string& path, ControllerHost& host) {
   world::Diagnostics d;
   auto w = World::load(path, 1, d);
   ControllerHost::Options o;
-  o.search_path = {TROUPE_CONTROLLER_DIR};
+  o.search_path = {TROUPE_PLUGIN_DIR};
   if (!w || !host.load(*w, o, d)) {
     std::printf("cannot load %s:\n%s", path.c_str(), d.str().c_str());
     return nullptr;
@@ -202,7 +202,7 @@ bool row_scale(const Settings& s, Summary& out) {
     ControllerHost host;
     world::Diagnostics diags;
     ControllerHost::Options o;
-    o.search_path = {TROUPE_CONTROLLER_DIR};
+    o.search_path = {TROUPE_PLUGIN_DIR};
     if (!host.load(w, o, diags)) {
       std::printf("%s", diags.str().c_str());
       return false;

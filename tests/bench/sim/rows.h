@@ -18,7 +18,7 @@ struct Summary {
   double rtf = 0;           // median simulated seconds per CPU second
   double rtf_wall = 0;      // the same per wall second
   double baseline_rtf = 0;  // per-cell ray casting, same world, same run
-  double stage = 0;         // Stage 4.3's figure for this row (the issue's)
+  double stage = 0;         // Stage 4.3's figure for this row: given (the issue's), not measured
   double target = 0;        // the target
 };
 

@@ -10,7 +10,7 @@ class Quiet final : public troupe::robocup::SensorPlugin {
 };
 }  // namespace
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<SensorPlugin, Quiet>(PluginKind::Sensor, "some_other_name");
 }

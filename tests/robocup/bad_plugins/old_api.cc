@@ -1,9 +1,8 @@
-// A plugin built for another API version.
-#include "host-sim/robocup/api/plugin.h"
+// A plugin built for another plugin ABI version.
+#include "host-sim/plugin/plugin_abi.h"
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
-  static const troupe::robocup::PluginInfo info{troupe::robocup::kPluginApiVersion + 1,
-                                                troupe::robocup::PluginKind::Sensor, "old_api", nullptr,
-                                                nullptr};
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
+  static const TroupePluginInfo info{TROUPE_PLUGIN_ABI_VERSION + 1, TROUPE_PLUGIN_SENSOR, 2, "old_api", nullptr,
+                                     nullptr};
   return &info;
 }

@@ -10,6 +10,7 @@ from troupe.wire.BumperGeometry import BumperGeometry
 from troupe.wire.BumperReqSub import BumperReqSub
 from troupe.wire.BumperState import BumperState
 from troupe.wire.FiducialGeometry import FiducialGeometry
+from troupe.wire.FiducialKind import FiducialKind
 from troupe.wire.FiducialList import FiducialList
 from troupe.wire.FiducialReqSub import FiducialReqSub
 from troupe.wire.ImuState import ImuState
@@ -211,11 +212,13 @@ class BlobfinderProxy(Proxy):
 
 
 class Detection(NamedTuple):
-    """One landmark in the sensor frame: id (-1: not identified), m forward, m left, rad."""
+    """One landmark in the sensor frame: id (-1: not identified), m forward, m left, rad, and
+    what it is (a FiducialKind value: Generic, Ball, Goal, Post, Line, Robot)."""
     id: int
     x: float
     y: float
     yaw: float
+    kind: int = FiducialKind.Generic
 
 
 class FiducialGeometryInfo(NamedTuple):
@@ -239,9 +242,11 @@ class FiducialProxy(Proxy):
         if s is None:
             return
         self.fiducials = []
+        kinds = s.KindsLength()
         for i in range(s.FiducialsLength()):
             f = s.Fiducials(i)
-            self.fiducials.append(Detection(f.Id(), f.X(), f.Y(), f.Yaw()))
+            kind = s.Kinds(i) if i < kinds else FiducialKind.Generic
+            self.fiducials.append(Detection(f.Id(), f.X(), f.Y(), f.Yaw(), kind))
 
     def geometry(self) -> FiducialGeometryInfo | None:
         r = self._request(FiducialReqSub.Geometry)

@@ -45,12 +45,15 @@ class LocalizeProxy(Proxy):
     def __init__(self, client: Client, index: int = 0, robot: int = 0, addr: Address | None = None):
         super().__init__(client, addr or Address.of(Interface.Localize, index, robot))
         self.hypotheses: list[Hypothesis] = []
+        # The localizer says it is lost: the hypotheses are not to be trusted.
+        self.lost = False
         self._attach()
 
     def _update(self, msg) -> None:
         s = msg.body_as(LocalizeState)
         if s is None:
             return
+        self.lost = bool(s.Lost())
         self.hypotheses = []
         for i in range(s.HypothesesLength()):
             h = s.Hypotheses(i)

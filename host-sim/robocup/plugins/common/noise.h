@@ -2,8 +2,6 @@
 // simulator hands the plugin, so a run repeats exactly.
 #pragma once
 
-#include <algorithm>
-#include <random>
 
 #include "host-sim/robocup/api/plugin.h"
 
@@ -12,14 +10,12 @@ namespace troupe::robocup::plugins {
 /// A normal draw with standard deviation `sigma` (0 draws nothing, so a
 /// noiseless sensor leaves the generator untouched).
 inline double gaussian(Rng& rng, double sigma) {
-  if (sigma <= 0) return 0;
-  return std::normal_distribution<double>(0.0, sigma)(rng);
+  return rng.gaussian(sigma);
 }
 
 /// True with probability `p`.
 inline bool chance(Rng& rng, double p) {
-  if (p <= 0) return false;
-  return std::uniform_real_distribution<double>(0.0, 1.0)(rng) < p;
+  return rng.chance(p);
 }
 
 }  // namespace troupe::robocup::plugins

@@ -35,7 +35,7 @@ class DiffDrive final : public MotionPlugin {
 }  // namespace
 }  // namespace troupe::robocup::plugins
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<MotionPlugin, plugins::DiffDrive>(PluginKind::Motion, "diff_drive");
 }

@@ -75,7 +75,7 @@ class FieldPlayer final : public PlayerPlugin {
 }  // namespace
 }  // namespace troupe::robocup::plugins
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<PlayerPlugin, plugins::FieldPlayer>(PluginKind::Player, "field_player");
 }

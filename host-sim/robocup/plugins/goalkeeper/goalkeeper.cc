@@ -86,8 +86,8 @@ class Goalkeeper final : public PlayerPlugin {
     const double now = world.time_s();
     Vec2 noise;
     if (noise_ > 0) {
-      std::normal_distribution<double> n(0, noise_);
-      noise = {n(rng), n(rng)};
+      noise.x = rng.gaussian(noise_);
+      noise.y = rng.gaussian(noise_);
     }
     seen_.push_back({now, ball.position + noise, ball.velocity});
     while (seen_.size() > 1 && seen_[1].time_s <= now - latency_s_ + 1e-9) seen_.pop_front();
@@ -108,7 +108,7 @@ class Goalkeeper final : public PlayerPlugin {
 }  // namespace
 }  // namespace troupe::robocup::plugins
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<PlayerPlugin, plugins::Goalkeeper>(PluginKind::Player, "goalkeeper");
 }

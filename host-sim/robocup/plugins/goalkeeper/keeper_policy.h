@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 
 #include "host-sim/robocup/api/plugin.h"
@@ -92,7 +91,7 @@ inline Vec2 keeper_target(KeeperPolicy p, const KeeperGeometry& g, const KeeperS
       return me;
     case KeeperPolicy::Random:
       if (time_s >= m.next_pick_s) {
-        m.random_y = std::uniform_real_distribution<double>(-g.reach, g.reach)(rng);
+        m.random_y = rng.uniform(-g.reach, g.reach);
         m.next_pick_s = time_s + s.random_period_s;
       }
       return {g.line_x(), m.random_y};
@@ -114,7 +113,7 @@ inline Vec2 keeper_target(KeeperPolicy p, const KeeperGeometry& g, const KeeperS
       if (time_s >= m.next_mix_s) {
         constexpr KeeperPolicy kChoices[4] = {KeeperPolicy::Block, KeeperPolicy::Intercept,
                                               KeeperPolicy::Pattern, KeeperPolicy::Random};
-        m.mixed = kChoices[std::uniform_int_distribution<int>(0, 3)(rng)];
+        m.mixed = kChoices[std::min(size_t(rng.uniform() * 4), size_t(3))];
         m.next_mix_s = time_s + s.mix_period_s;
       }
       const Vec2 target = keeper_target(m.mixed, g, s, me, ball, ball_v, time_s, m, rng);

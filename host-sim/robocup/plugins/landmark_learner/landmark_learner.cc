@@ -18,15 +18,11 @@
 #include <cstdio>
 #include <numbers>
 
+#include "host-sim/robocup/api/fiducial_key.h"
 #include "host-sim/robocup/api/plugin.h"
 
 namespace troupe::robocup::plugins {
 namespace {
-
-// Landmark codes as on the wire (wire/landmark_code.h): kind * 100 + id.
-int code(ObjectKind kind, int id) {
-  return int(kind) * 100 + id;
-}
 
 bool is_landmark(ObjectKind k) {
   return k == ObjectKind::Goal || k == ObjectKind::GoalPost || k == ObjectKind::CornerPost;
@@ -56,9 +52,9 @@ class LandmarkLearner final : public PlayerPlugin {
     nx_ = int(std::floor(-2 * x0_ / step_ + 1e-9)) + 1;
     ny_ = int(std::floor(-2 * y0_ / step_ + 1e-9)) + 1;
     for (const Landmark& l : f.landmarks) {
-      if (is_landmark(l.kind)) codes_.push_back(code(l.kind, l.id));
+      if (is_landmark(l.kind)) keys_.push_back(*fiducial_key(l.kind, l.id));
     }
-    cells_.assign(size_t(nx_) * size_t(ny_) * size_t(headings_) * codes_.size() * 2, NAN);
+    cells_.assign(size_t(nx_) * size_t(ny_) * size_t(headings_) * keys_.size() * 2, NAN);
     next_ = 0;
     placed_s_ = -1;
   }
@@ -97,11 +93,11 @@ class LandmarkLearner final : public PlayerPlugin {
   }
 
   void record(const SensorReading& r, size_t pose) {
-    float* row = &cells_[pose * codes_.size() * 2];
+    float* row = &cells_[pose * keys_.size() * 2];
     for (const Detection& d : r.detections) {
       if (!is_landmark(d.kind)) continue;
-      for (size_t k = 0; k < codes_.size(); ++k) {
-        if (codes_[k] != code(d.kind, d.id)) continue;
+      for (size_t k = 0; k < keys_.size(); ++k) {
+        if (keys_[k] != fiducial_key(d.kind, d.id)) continue;
         row[2 * k] = float(d.x);
         row[2 * k + 1] = float(d.y);
       }
@@ -114,27 +110,27 @@ class LandmarkLearner final : public PlayerPlugin {
       std::fprintf(stderr, "landmark_learner: cannot write %s\n", out_.c_str());
       return;
     }
-    std::fprintf(f, "troupe-landmarks 1\ngrid %.6f %.6f %.6f %d %d %d\ncodes %zu", x0_, y0_, step_, nx_, ny_,
-                 headings_, codes_.size());
-    for (int c : codes_) std::fprintf(f, " %d", c);
+    std::fprintf(f, "troupe-landmarks 2\ngrid %.6f %.6f %.6f %d %d %d\nlandmarks %zu", x0_, y0_, step_, nx_, ny_,
+                 headings_, keys_.size());
+    for (const FiducialKey& k : keys_) std::fprintf(f, " %s", to_string(k).c_str());
     std::fprintf(f, "\n");
     for (size_t i = 0; i < cells_.size(); i += 2) {
       std::fprintf(f, std::isnan(cells_[i]) ? "nan nan" : "%.4f %.4f", double(cells_[i]),
                    double(cells_[i + 1]));
-      std::fprintf(f, (i + 2) % (codes_.size() * 2) == 0 ? "\n" : " ");
+      std::fprintf(f, (i + 2) % (keys_.size() * 2) == 0 ? "\n" : " ");
     }
     if (std::fclose(f) != 0) {
       std::fprintf(stderr, "landmark_learner: writing %s failed\n", out_.c_str());
     } else {
       std::fprintf(stderr, "landmark_learner: %s: %d x %d positions x %d headings, %zu landmarks\n",
-                   out_.c_str(), nx_, ny_, headings_, codes_.size());
+                   out_.c_str(), nx_, ny_, headings_, keys_.size());
     }
   }
 
   std::string out_, sensor_;
   double step_ = 0.25, margin_ = -1, x0_ = 0, y0_ = 0;
   int headings_ = 8, nx_ = 0, ny_ = 0;
-  std::vector<int> codes_;
+  std::vector<FiducialKey> keys_;
   std::vector<float> cells_;
   size_t next_ = 0;
   double placed_s_ = -1;
@@ -143,7 +139,7 @@ class LandmarkLearner final : public PlayerPlugin {
 }  // namespace
 }  // namespace troupe::robocup::plugins
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<PlayerPlugin, plugins::LandmarkLearner>(PluginKind::Player, "landmark_learner");
 }

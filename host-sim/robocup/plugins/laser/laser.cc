@@ -87,7 +87,7 @@ class Laser final : public SensorPlugin {
 }  // namespace
 }  // namespace troupe::robocup::plugins
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<SensorPlugin, plugins::Laser>(PluginKind::Sensor, "laser");
 }

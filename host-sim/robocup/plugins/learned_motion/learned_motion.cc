@@ -40,7 +40,7 @@ class LearnedMotion final : public MotionPlugin {
 }  // namespace
 }  // namespace troupe::robocup::plugins
 
-TROUPE_ROBOCUP_EXPORT const troupe::robocup::PluginInfo* troupe_robocup_plugin_v1() {
+TROUPE_PLUGIN_EXPORT const TroupePluginInfo* troupe_plugin_v1() {
   using namespace troupe::robocup;
   return plugin_info<MotionPlugin, plugins::LearnedMotion>(PluginKind::Motion, "learned_motion");
 }

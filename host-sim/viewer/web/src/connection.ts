@@ -1,6 +1,9 @@
 // The wire protocol over a WebSocket: one binary message is one frame
 // (size prefix included), exactly as on the node's TCP port. The server
 // bridges it to the node unchanged, so this is a Troupe client like any other.
+// When the socket closes (the simulator or node restarted, the network
+// dropped) it connects again by itself, waiting longer after each failed
+// attempt, as the C++ client library and passthrough do.
 import * as flatbuffers from 'flatbuffers';
 import * as W from 'troupe-wire';
 
@@ -8,6 +11,15 @@ import * as W from 'troupe-wire';
 const kProtocolVersion = 1;
 /// Largest frame accepted, bytes (the node's default limit).
 const kMaxFrameBytes = 1 << 20;
+/// Reconnection backoff: the first retry after kRetryMinMs, each failed
+/// attempt doubles the wait up to kRetryMaxMs; a connection that opened
+/// starts again from the minimum. ms.
+const kRetryMinMs = 250;
+const kRetryMaxMs = 5000;
+
+/// Where the connection stands: opening a socket, open, or waiting before
+/// the next attempt.
+export type LinkState = 'connecting' | 'open' | 'waiting';
 
 export interface Address {
   robot: number;
@@ -39,13 +51,26 @@ export function addrKey(a: Address): string {
 }
 
 export class Connection {
-  private ws: WebSocket;
+  private ws!: WebSocket;
   private seq = 1;
   private pending = new Map<number, Pending>();
+  private retryMs = kRetryMinMs;
+  private retryTimer: ReturnType<typeof setTimeout> | undefined;
+  private stopped = false;
   /// Called for every Data frame.
   onData: DataHandler = () => {};
-  /// Called once when the connection ends, with the reason.
+  /// Called each time the connection ends, with the reason; a new attempt
+  /// follows by itself (see state).
   onClose: (reason: string) => void = () => {};
+  /// Called on every change of state.
+  onState: (state: LinkState) => void = () => {};
+  state: LinkState = 'connecting';
+  /// Attempts since the last open connection (0 while open).
+  failedAttempts = 0;
+  /// When the next attempt starts (performance.now() ms), while waiting.
+  retryAt = 0;
+  /// Connections opened so far (1 after the first; more after restarts).
+  opens = 0;
   nodeName = '';
   framesIn = 0;
   /// Requests still waiting for their reply.
@@ -53,23 +78,58 @@ export class Connection {
     return this.pending.size;
   }
 
-  constructor(url: string, private onOpen: () => void) {
-    this.ws = new WebSocket(url);
-    this.ws.binaryType = 'arraybuffer';
-    this.ws.onopen = () => {
+  /// `onOpen` runs for every connection opened: the first and each one
+  /// after a restart, where the page learns the world again.
+  constructor(private url: string, private onOpen: () => void) {
+    this.connect();
+  }
+
+  private setState(state: LinkState): void {
+    this.state = state;
+    this.onState(state);
+  }
+
+  private connect(): void {
+    this.retryTimer = undefined;
+    this.setState('connecting');
+    const ws = new WebSocket(this.url);
+    this.ws = ws;
+    ws.binaryType = 'arraybuffer';
+    ws.onopen = () => {
+      this.retryMs = kRetryMinMs;
+      this.failedAttempts = 0;
+      ++this.opens;
+      this.nodeName = '';
+      this.setState('open');
       this.sendHello();
       this.onOpen();
     };
-    this.ws.onmessage = (ev) => this.receive(new Uint8Array(ev.data as ArrayBuffer));
-    this.ws.onclose = (ev) => {
+    ws.onmessage = (ev) => {
+      if (ws === this.ws) this.receive(new Uint8Array(ev.data as ArrayBuffer));
+    };
+    ws.onclose = (ev) => {
+      if (ws !== this.ws) return;
       const why = ev.reason || `connection closed (code ${ev.code})`;
       for (const p of this.pending.values()) p.reject(new RequestFailed(why));
       this.pending.clear();
       this.onClose(why);
+      this.scheduleRetry();
     };
   }
 
+  private scheduleRetry(): void {
+    if (this.stopped) return;
+    ++this.failedAttempts;
+    this.retryAt = performance.now() + this.retryMs;
+    this.retryTimer = setTimeout(() => this.connect(), this.retryMs);
+    this.retryMs = Math.min(this.retryMs * 2, kRetryMaxMs);
+    this.setState('waiting');
+  }
+
+  /// Closes for good: no more attempts.
   close(): void {
+    this.stopped = true;
+    if (this.retryTimer !== undefined) clearTimeout(this.retryTimer);
     this.ws.close();
   }
 
@@ -80,6 +140,12 @@ export class Connection {
   /// Builds and sends one frame; `body` adds the body and returns its type.
   private send(kind: W.Kind, addr: Address, subtype: number, seq: number,
                body?: (b: flatbuffers.Builder) => [W.Body, flatbuffers.Offset]): void {
+    if (this.ws.readyState !== WebSocket.OPEN) {  // between connections: the request fails now
+      const p = this.pending.get(seq);
+      this.pending.delete(seq);
+      p?.reject(new RequestFailed('not connected'));
+      return;
+    }
     const b = new flatbuffers.Builder(256);
     let type = W.Body.NONE;
     let offset = 0;
@@ -107,7 +173,7 @@ export class Connection {
 
   /// Sends raw bytes (the tests' bad input).
   sendRaw(bytes: Uint8Array): void {
-    this.ws.send(bytes);
+    if (this.ws.readyState === WebSocket.OPEN) this.ws.send(bytes);
   }
 
   async deviceList(): Promise<DeviceEntry[]> {
@@ -158,8 +224,8 @@ export class Connection {
     const bb = new flatbuffers.ByteBuffer(bytes);
     const msg = W.Message.getSizePrefixedRootAsMessage(bb);
     const h = msg.header();
-    if (!h) return;
-    const a = h.addr();
+    const a = h?.addr();
+    if (!h || !a) return;
     const addr = { robot: a.robot(), iface: a.iface(), index: a.index() };
     switch (h.kind()) {
       case W.Kind.Data:

@@ -1,6 +1,12 @@
 // Drawing the scene on a 2D canvas. The view maps world metres to CSS
 // pixels: x right, y up, `scale` pixels per metre around `center`.
-import { colorOf, compose, Pose, Robot, Scene } from './scene';
+import { BlobImage, BlobView, colorOf, compose, Field, Game, Pose, Robot, Scene } from './scene';
+
+/// A blobfinder's horizontal field of view, rad. The wire's blob list does
+/// not carry it; this is troupe-sim's and Stage's default (60 degrees).
+const kBlobFov = Math.PI / 3;
+/// How far a blob of unknown range is drawn (as a bearing ray), m.
+const kBlobRayM = 3;
 
 export class View {
   center = { x: 0, y: 0 }; // m
@@ -55,13 +61,81 @@ export function draw(view: View, scene: Scene, state: DrawState): void {
     ctx.drawImage(m.canvas, sx, sy, m.width * m.resolution * view.scale, m.height * m.resolution * view.scale);
   }
 
+  if (scene.field) drawField(ctx, view, scene.field);
   for (const r of scene.robots) drawTrail(ctx, view, r, r === state.selected);
-  if (state.selected) drawSensors(ctx, view, scene, state.selected);
+  if (state.selected) {
+    drawSensors(ctx, view, scene, state.selected);
+    drawWorldBlobs(ctx, view, scene, state.selected);
+  }
   for (const r of scene.robots) {
     const dragged = state.drag?.robot === r;
+    if (scene.kicks.has(r.number)) drawKick(ctx, view, r);
     drawRobot(ctx, view, r, r.pose, r === state.selected, dragged ? 0.35 : 1);
     if (dragged) drawRobot(ctx, view, r, state.drag!.pose, true, 1);
   }
+  if (scene.game) drawScore(ctx, w, scene.game);
+}
+
+/// The pitch: grass to the barrier, white lines, the centre circle, the
+/// penalty areas, the goals (blue at -x, yellow at +x) and the corner posts.
+function drawField(ctx: CanvasRenderingContext2D, view: View, f: Field): void {
+  const L = f.length / 2, H = f.width / 2, B = f.border;
+  const rect = (x0: number, y0: number, x1: number, y1: number) => {
+    const [sx0, sy0] = view.toScreen(x0, y1);
+    const [sx1, sy1] = view.toScreen(x1, y0);
+    return [sx0, sy0, sx1 - sx0, sy1 - sy0] as const;
+  };
+  ctx.fillStyle = '#3f8f3f';
+  ctx.fillRect(...rect(-L - B, -H - B, L + B, H + B));
+  ctx.strokeStyle = '#ffffff';
+  ctx.lineWidth = Math.max(1, 0.05 * view.scale);
+  ctx.strokeRect(...rect(-L, -H, L, H));
+  const [cx, cy] = view.toScreen(0, 0);
+  const [, top] = view.toScreen(0, H), [, bottom] = view.toScreen(0, -H);
+  ctx.beginPath();
+  ctx.moveTo(cx, top);
+  ctx.lineTo(cx, bottom);
+  ctx.moveTo(cx + f.centerCircle * view.scale, cy);
+  ctx.arc(cx, cy, f.centerCircle * view.scale, 0, 2 * Math.PI);
+  ctx.stroke();
+  const P = f.penaltyWidth / 2, G = f.goalWidth / 2;
+  for (const side of [-1, 1]) {
+    const x0 = side * L, x1 = side * (L - f.penaltyDepth);
+    ctx.strokeRect(...rect(Math.min(x0, x1), -P, Math.max(x0, x1), P));
+    const g0 = side * L, g1 = side * (L + f.goalDepth);
+    ctx.fillStyle = side < 0 ? '#1e50ff' : '#ffd21e';
+    ctx.fillRect(...rect(Math.min(g0, g1), -G, Math.max(g0, g1), G));
+    for (const yside of [-1, 1]) {
+      const [px, py] = view.toScreen(side * (L + f.cornerPostOffset), yside * (H + f.cornerPostOffset));
+      ctx.fillStyle = '#e0e0e0';
+      ctx.beginPath();
+      ctx.arc(px, py, Math.max(f.cornerPostRadius * view.scale, 2), 0, 2 * Math.PI);
+      ctx.fill();
+    }
+  }
+}
+
+/// A kick: a burst in front of the robot while its kicker is out.
+function drawKick(ctx: CanvasRenderingContext2D, view: View, r: Robot): void {
+  const front = compose(r.pose, { x: r.size[0] / 2 + 0.1, y: 0, a: 0 });
+  const [x, y] = view.toScreen(front.x, front.y);
+  ctx.strokeStyle = '#ff3020';
+  ctx.lineWidth = 3;
+  ctx.beginPath();
+  ctx.arc(x, y, Math.max(0.15 * view.scale, 6), 0, 2 * Math.PI);
+  ctx.stroke();
+}
+
+/// The score, top centre: blue first (it defends -x, drawn on the left).
+function drawScore(ctx: CanvasRenderingContext2D, w: number, g: Game): void {
+  const text = `blue ${g.blue} : ${g.yellow} yellow` + (g.lastEvent ? `  (${g.lastEvent})` : '');
+  ctx.font = 'bold 16px sans-serif';
+  ctx.textAlign = 'center';
+  const width = ctx.measureText(text).width + 16;
+  ctx.fillStyle = 'rgba(255, 255, 255, 0.85)';
+  ctx.fillRect(w / 2 - width / 2, 6, width, 24);
+  ctx.fillStyle = '#111';
+  ctx.fillText(text, w / 2, 24);
 }
 
 function drawGrid(ctx: CanvasRenderingContext2D, view: View, w: number, h: number): void {
@@ -111,12 +185,19 @@ function drawRobot(ctx: CanvasRenderingContext2D, view: View, r: Robot, pose: Po
   ctx.fillStyle = r.color;
   ctx.strokeStyle = selected ? '#1e5ac8' : '#222';
   ctx.lineWidth = selected ? 3 : 1;
-  ctx.fillRect(-sw / 2, -sh / 2, sw, sh);
-  ctx.strokeRect(-sw / 2, -sh / 2, sw, sh);
-  ctx.beginPath();
-  ctx.moveTo(0, 0);
-  ctx.lineTo(sw / 2, 0);
-  ctx.stroke();
+  if (r.disc) {
+    ctx.beginPath();
+    ctx.arc(0, 0, sw / 2, 0, 2 * Math.PI);
+    ctx.fill();
+    ctx.stroke();
+  } else {
+    ctx.fillRect(-sw / 2, -sh / 2, sw, sh);
+    ctx.strokeRect(-sw / 2, -sh / 2, sw, sh);
+    ctx.beginPath();
+    ctx.moveTo(0, 0);
+    ctx.lineTo(sw / 2, 0);
+    ctx.stroke();
+  }
   ctx.restore();
   ctx.globalAlpha = alpha;
   ctx.fillStyle = '#111';
@@ -167,9 +248,50 @@ function drawSensors(ctx: CanvasRenderingContext2D, view: View, scene: Scene, r:
   }
 }
 
+/// Where a blob is in the world, seen by `robot` (the blobfinder at its
+/// centre, looking ahead): its bearing from the image column (x grows to
+/// the right, against the bearing), its range from the data. The blob's
+/// width across the view, m (0 when its range is unknown).
+export function blobInWorld(robot: Pose, image: BlobImage, blob: BlobView): { at: Pose; width: number } {
+  const w = Math.max(image.width, 1);
+  const bearing = (0.5 - (blob.x + 0.5) / w) * kBlobFov;
+  const range = blob.range > 0 ? blob.range : kBlobRayM;
+  const at = compose(robot, { x: range * Math.cos(bearing), y: range * Math.sin(bearing), a: bearing });
+  const width = blob.range > 0 ? ((blob.r - blob.l + 1) / w) * kBlobFov * blob.range : 0;
+  return { at, width };
+}
+
+/// The selected robot's blobs in the world view: a disc of the blob's
+/// colour where it was seen (a dashed ray where its range is unknown),
+/// joined to the robot.
+function drawWorldBlobs(ctx: CanvasRenderingContext2D, view: View, scene: Scene, r: Robot): void {
+  for (const [key, image] of scene.blobs) {
+    if (!key.startsWith(`${r.number}/`)) continue;
+    const [rx, ry] = view.toScreen(r.pose.x, r.pose.y);
+    for (const blob of image.list) {
+      const { at, width } = blobInWorld(r.pose, image, blob);
+      const [x, y] = view.toScreen(at.x, at.y);
+      ctx.strokeStyle = colorOf(blob.color);
+      ctx.lineWidth = 1.5;
+      ctx.setLineDash(width > 0 ? [] : [4, 4]);
+      ctx.beginPath();
+      ctx.moveTo(rx, ry);
+      ctx.lineTo(x, y);
+      ctx.stroke();
+      ctx.setLineDash([]);
+      if (width <= 0) continue;
+      ctx.fillStyle = colorOf(blob.color);
+      ctx.strokeStyle = '#111';
+      ctx.beginPath();
+      ctx.arc(x, y, Math.max((width / 2) * view.scale, 5), 0, 2 * Math.PI);
+      ctx.fill();
+      ctx.stroke();
+    }
+  }
+}
+
 /// The blobs of a blobfinder as its camera image sees them.
-export function drawBlobs(canvas: HTMLCanvasElement, blobs: { width: number; height: number;
-                            list: { color: number; l: number; r: number; t: number; b: number }[] }): void {
+export function drawBlobs(canvas: HTMLCanvasElement, blobs: BlobImage): void {
   const ctx = canvas.getContext('2d')!;
   ctx.fillStyle = '#222';
   ctx.fillRect(0, 0, canvas.width, canvas.height);

@@ -3,10 +3,10 @@
 // controls. window.troupeViewer exposes the state for tests and the console.
 import * as W from 'troupe-wire';
 import { Connection, DeviceEntry } from './connection';
-import { draw, drawBlobs, View } from './draw';
-import { colorOf, fmt, Pose, Robot, Scene } from './scene';
+import { blobInWorld, draw, drawBlobs, View } from './draw';
+import { colorOf, Field, fmt, Pose, Robot, Scene } from './scene';
 
-const kSimulation = 11, kMap = 10, kPosition2d = 1, kRanger = 2;
+const kSimulation = 11, kMap = 10, kPosition2d = 1, kRanger = 2, kActuator = 7;
 /// A press that moves less than this is a click, px.
 const kClickSlop = 4;
 
@@ -27,16 +27,44 @@ const conn = new Connection(`${location.protocol === 'https:' ? 'wss' : 'ws'}://
 conn.onData = (msg, addr) => scene.onData(msg, addr);
 conn.onClose = (why) => {
   closeReason = why;
-  setStatus(`disconnected: ${why}`);
+  ready = false;
+  document.body.dataset.ready = 'false';
   document.body.dataset.connected = 'false';
 };
+conn.onState = (link) => {
+  document.body.dataset.link = link;
+  showLink();
+};
+
+/// The status line while not connected: why, and when the next attempt is.
+function showLink(): void {
+  if (conn.state === 'open') return;
+  const why = closeReason ? `disconnected: ${closeReason}; ` : '';
+  if (conn.state === 'connecting') {
+    setStatus(`${why}connecting${conn.failedAttempts ? ` (attempt ${conn.failedAttempts + 1})` : ''}…`);
+  } else {
+    const s = Math.max(0, (conn.retryAt - performance.now()) / 1000);
+    setStatus(`${why}reconnecting in ${s.toFixed(1)} s (attempt ${conn.failedAttempts + 1})`);
+  }
+}
 
 function setStatus(text: string): void {
   $('status').textContent = text;
 }
 
+/// Learns the world from a new connection: the first, or one after the
+/// simulator or node restarted (then everything is learned again).
 async function start(): Promise<void> {
   document.body.dataset.connected = 'true';
+  closeReason = '';
+  ready = false;
+  mode = 'connecting';
+  simDevice = undefined;
+  opened.clear();
+  state.selected = null;
+  state.drag = null;
+  scene.reset();
+  document.body.classList.remove('node-mode');
   scene.devices = await conn.deviceList();
   simDevice = scene.devices.find((d) => d.addr.iface === kSimulation);
   if (simDevice) {
@@ -46,9 +74,15 @@ async function start(): Promise<void> {
     for (let i = 0; i < list.modelsLength(); ++i) {
       const m = list.models(i)!;
       addRobot({ name: m.name() || `robot ${i}`, number: m.robot(), pose: { x: 0, y: 0, a: 0 },
-                 size: [m.sizeX(), m.sizeY()], color: colorOf(m.color()), trail: [] });
+                 size: [m.sizeX(), m.sizeY()], color: colorOf(m.color()), trail: [],
+                 disc: m.shape() === W.SimShape.Disc });
     }
+    scene.field = fieldOf(list.field());
     await conn.open(simDevice.addr, W.Access.All);
+    // A match: every kicker, so kicks show whichever robot is selected.
+    for (const d of scene.devices) {
+      if (scene.field && d.addr.iface === kActuator) await conn.open(d.addr, W.Access.Read).catch(() => {});
+    }
     const clock = await conn.request(simDevice.addr, W.SimulationReqSub.GetClock);
     scene.onData(clock, simDevice.addr);
   } else {
@@ -84,8 +118,19 @@ function addRobot(r: Robot): void {
   scene.byNumber.set(r.number, r);
 }
 
+function fieldOf(f: W.SimField | null): Field | null {
+  if (!f) return null;
+  return { length: f.length(), width: f.width(), goalWidth: f.goalWidth(), goalDepth: f.goalDepth(),
+           border: f.border(), centerCircle: f.centerCircleRadius(), penaltyDepth: f.penaltyDepth(),
+           penaltyWidth: f.penaltyWidth(), cornerPostRadius: f.cornerPostRadius(),
+           cornerPostOffset: f.cornerPostOffset() };
+}
+
 function fitAll(): void {
-  if (scene.map) {
+  if (scene.field) {
+    const f = scene.field, x = f.length / 2 + f.border, y = f.width / 2 + f.border;
+    view.fit(-x, -y, x, y);
+  } else if (scene.map) {
     const m = scene.map;
     view.fit(m.origin.x, m.origin.y, m.origin.x + m.width * m.resolution, m.origin.y + m.height * m.resolution);
   } else if (scene.robots.length) {
@@ -243,10 +288,13 @@ function updatePanel(): void {
   const option = [...speed.options].find((o) => Number(o.value) === scene.speed);
   if (document.activeElement !== speed && option) speed.value = option.value;
   document.body.dataset.paused = String(scene.paused);
-  if (ready) {
+  if (ready && conn.state === 'open') {
     const what = mode === 'sim' ? `troupe-sim, ${scene.robots.length} robots` :
                                   `node ${conn.nodeName || ''}, ${scene.devices.length} devices`;
-    if (!closeReason) setStatus(`connected: ${what}${notice ? '; ' + notice : ''}`);
+    setStatus(`connected: ${what}${conn.opens > 1 ? ` (reconnected ${conn.opens - 1}×)` : ''}` +
+              `${notice ? '; ' + notice : ''}`);
+  } else {
+    showLink();
   }
   const panel = $('selected');
   if (!r) {
@@ -301,6 +349,8 @@ requestAnimationFrame(frame);
   get ready() { return ready; },
   get mode() { return mode; },
   get closeReason() { return closeReason; },
+  get link() { return conn.state; },
+  get opens() { return conn.opens; },
   get simTime() { return scene.simTime; },
   get steps() { return scene.steps; },
   get paused() { return scene.paused; },
@@ -309,12 +359,35 @@ requestAnimationFrame(frame);
   get teleports() { return teleports; },
   get selected() { return state.selected?.name ?? null; },
   robots: () => scene.robots.map((r) => r.name),
+  field: () => scene.field,
+  game: () => scene.game,
+  kicking: () => scene.robots.filter((r) => scene.kicks.has(r.number)).map((r) => r.name),
+  /// The canvas colour at a world point, '#rrggbb'.
+  colorAt: (x: number, y: number) => {
+    const [sx, sy] = view.toScreen(x, y);
+    const dpr = window.devicePixelRatio || 1;
+    const d = canvas.getContext('2d')!.getImageData(Math.round(sx * dpr), Math.round(sy * dpr), 1, 1).data;
+    return '#' + [d[0], d[1], d[2]].map((v) => v.toString(16).padStart(2, '0')).join('');
+  },
   devices: () => scene.devices.map((d) => d.text),
   pose: (name: string) => { const r = scene.robot(name); return r ? { ...r.pose } : null; },
   trailLength: (name: string) => scene.robot(name)?.trail.length ?? 0,
   values: () => Object.fromEntries(scene.devices.map((d) =>
     [d.text, scene.values.get(`${d.addr.robot}/${d.addr.iface}:${d.addr.index}`) ?? null])),
   beams: () => [...scene.rangers.values()].reduce((n, v) => n + v.ranges.length, 0),
+  /// The selected robot's blobs as drawn in the world view: colour, world
+  /// position (m) and page position (CSS px) of each.
+  worldBlobs: () => {
+    const r = state.selected;
+    if (!r) return [];
+    const box = canvas.getBoundingClientRect();
+    return [...scene.blobs].filter(([key]) => key.startsWith(`${r.number}/`)).flatMap(([, image]) =>
+      image.list.map((b) => {
+        const { at, width } = blobInWorld(r.pose, image, b);
+        const [x, y] = view.toScreen(at.x, at.y);
+        return { color: colorOf(b.color), x: at.x, y: at.y, width, pageX: box.left + x, pageY: box.top + y };
+      }));
+  },
   screenOf: (name: string) => {
     const r = scene.robot(name);
     if (!r) return null;

@@ -22,6 +22,30 @@ export interface Robot {
   /// On a node: the position2d index whose odometry places the robot (a
   /// node may serve several estimates of one robot).
   poseIndex?: number;
+  /// Drawn as a disc of diameter size[0] (a ball, a puck), not a box.
+  disc?: boolean;
+}
+
+/// A RoboCup field (simulation:0's SimField), m; goals on the x axis.
+export interface Field {
+  length: number;
+  width: number;
+  goalWidth: number;
+  goalDepth: number;
+  border: number;
+  centerCircle: number;
+  penaltyDepth: number;
+  penaltyWidth: number;
+  cornerPostRadius: number;
+  cornerPostOffset: number;
+}
+
+/// A match's state (simulation:0's SimGame).
+export interface Game {
+  blue: number;
+  yellow: number;
+  phase: W.GamePhase;
+  lastEvent: string;
 }
 
 /// A ranger's mounting (robot frame) and its latest scan's beam ends.
@@ -32,6 +56,25 @@ export interface RangerView {
   minAngle: number; // rad, relative to the mount
   resolution: number; // rad between beams; 0: one beam per element
   maxRange: number; // m
+}
+
+/// One blob of a blobfinder: image pixels (x right, y down) and range.
+export interface BlobView {
+  color: number; // 0x00RRGGBB
+  x: number; // centroid, px
+  y: number;
+  l: number; // bounding box, px
+  r: number;
+  t: number;
+  b: number;
+  range: number; // m; 0: unknown
+}
+
+/// A blobfinder's latest image: its size and blobs.
+export interface BlobImage {
+  width: number; // px
+  height: number; // px
+  list: BlobView[];
 }
 
 export interface MapImage {
@@ -48,6 +91,11 @@ const kTrailPoses = 300;
 const kTrailStep = 0.02;
 /// Largest map tile asked for, cells a side (the map interface's limit).
 const kTile = 512;
+
+/** A detection as the panel lists it: its kind, unless generic, and its id. */
+export function fiducialLabel(kind: W.FiducialKind, id: number): string {
+  return kind === W.FiducialKind.Generic ? `#${id}` : `${W.FiducialKind[kind].toLowerCase()} ${id}`;
+}
 
 export function colorOf(rgb: number): string {
   return '#' + (rgb & 0xffffff).toString(16).padStart(6, '0');
@@ -73,13 +121,34 @@ export class Scene {
   /// Latest value of each device read, by addrKey, as text for the panel.
   values = new Map<string, string>();
   rangers = new Map<string, RangerView>();
-  blobs = new Map<string, { width: number; height: number; list: { color: number; x: number; y: number; l: number; r: number; t: number; b: number }[] }>();
-  fiducials = new Map<string, { id: number; x: number; y: number; a: number }[]>();
+  blobs = new Map<string, BlobImage>();
+  fiducials = new Map<string, { id: number; x: number; y: number; a: number; kind: W.FiducialKind }[]>();
+  field: Field | null = null;
+  game: Game | null = null;
+  /// Robot numbers whose kicker (actuator) is out, and when it fired, s.
+  kicks = new Map<number, number>();
   simTime = 0; // s
   steps = 0;
   paused = false;
   speed = 1;
   realTimeFactor = 0;
+
+  /// Forgets everything learned from the previous connection: a restarted
+  /// simulator or node may serve another world.
+  reset(): void {
+    this.robots = [];
+    this.byNumber.clear();
+    this.devices = [];
+    this.map = null;
+    this.values.clear();
+    this.rangers.clear();
+    this.blobs.clear();
+    this.fiducials.clear();
+    this.simTime = 0;
+    this.steps = 0;
+    this.paused = false;
+    this.odometryPoses = false;
+  }
 
   robot(name: string): Robot | undefined {
     return this.robots.find((r) => r.name === name);
@@ -195,10 +264,11 @@ export class Scene {
       }
       case W.Body.BlobList: {
         const s = msg.body(new W.BlobList()) as W.BlobList;
-        const list = [];
+        const list: BlobView[] = [];
         for (let i = 0; i < s.blobsLength(); ++i) {
           const b = s.blobs(i)!;
-          list.push({ color: b.color(), x: b.x(), y: b.y(), l: b.left(), r: b.right(), t: b.top(), b: b.bottom() });
+          list.push({ color: b.color(), x: b.x(), y: b.y(), l: b.left(), r: b.right(), t: b.top(), b: b.bottom(),
+                      range: b.rangeMm() / 1000 });
         }
         this.blobs.set(key, { width: s.width(), height: s.height(), list });
         this.values.set(key, `${list.length} blobs` + list.map((b) => ` ${colorOf(b.color)}@${b.x},${b.y}`).join(''));
@@ -209,10 +279,26 @@ export class Scene {
         const list = [];
         for (let i = 0; i < s.fiducialsLength(); ++i) {
           const f = s.fiducials(i)!;
-          list.push({ id: f.id(), x: f.x(), y: f.y(), a: f.yaw() });
+          const kind = i < s.kindsLength() ? s.kinds(i)! : W.FiducialKind.Generic;
+          list.push({ id: f.id(), x: f.x(), y: f.y(), a: f.yaw(), kind });
         }
         this.fiducials.set(key, list);
-        this.values.set(key, `${list.length} fiducials` + list.map((f) => ` #${f.id}`).join(''));
+        this.values.set(key, `${list.length} fiducials` + list.map((f) => ` ${fiducialLabel(f.kind, f.id)}`).join(''));
+        return;
+      }
+      case W.Body.SimGame: {
+        const s = msg.body(new W.SimGame()) as W.SimGame;
+        this.game = { blue: s.scoreBlue(), yellow: s.scoreYellow(), phase: s.phase(), lastEvent: s.lastEvent() || '' };
+        return;
+      }
+      case W.Body.ActuatorState: {
+        const s = msg.body(new W.ActuatorState()) as W.ActuatorState;
+        if (s.mode() === W.ActuatorMode.Kicking) {
+          if (!this.kicks.has(addr.robot)) this.kicks.set(addr.robot, this.simTime);
+        } else {
+          this.kicks.delete(addr.robot);
+        }
+        this.values.set(key, W.ActuatorMode[s.mode()]);
         return;
       }
       case W.Body.PowerState: {

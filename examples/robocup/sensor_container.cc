@@ -1,11 +1,19 @@
-#include "wire/client/sensor_container.h"
+#include "examples/robocup/sensor_container.h"
 
 #include <array>
 #include <cmath>
 
-#include "wire/landmark_code.h"
 
-namespace troupe::client {
+namespace troupe::examples {
+
+using client::ActuatorProxy;
+using client::BumperProxy;
+using client::DeviceEntry;
+using client::FiducialProxy;
+using client::Position2dProxy;
+using client::PowerProxy;
+using client::RangerProxy;
+using client::Reply;
 namespace {
 
 constexpr std::array<std::string_view, 11> kFeatureNames = {
@@ -121,11 +129,11 @@ std::vector<std::string> SensorContainer::models() const {
 }
 
 std::optional<Feature> SensorContainer::feature(std::string_view name) const {
-  using wire::LandmarkKind;
+  using wire::FiducialKind;
   const int attack = team_ == Team::Blue ? 1 : 0;  // goal ids: 0 blue (-x), 1 yellow (+x)
-  const int32_t ball = wire::landmark_code(LandmarkKind::Ball, 0);
-  const int32_t goal = wire::landmark_code(LandmarkKind::Goal, attack);
-  const int32_t own = wire::landmark_code(LandmarkKind::Goal, 1 - attack);
+  const Landmark ball{FiducialKind::Ball, 0};
+  const Landmark goal{FiducialKind::Goal, attack};
+  const Landmark own{FiducialKind::Goal, 1 - attack};
   if (name == "ballDistance") return landmark(ball, false);
   if (name == "ballBearing") return landmark(ball, true);
   if (name == "goalDistance") return landmark(goal, false);
@@ -140,14 +148,16 @@ std::optional<Feature> SensorContainer::feature(std::string_view name) const {
   return std::nullopt;
 }
 
-std::optional<Feature> SensorContainer::landmark(int32_t code, bool bearing) const {
+std::optional<Feature> SensorContainer::landmark(Landmark which, bool bearing) const {
   std::optional<Feature> best;
   for (const Entry& e : entries_) {
     if (e.proxy->address().iface() != uint16_t(wire::Interface::Fiducial) || e.proxy->samples() == 0)
       continue;
     if (best && e.proxy->time_us() <= best->time_us) continue;
-    for (const wire::Fiducial& f : static_cast<const FiducialProxy*>(e.proxy)->fiducials()) {
-      if (f.id() != code) continue;
+    const auto* proxy = static_cast<const FiducialProxy*>(e.proxy);
+    for (size_t i = 0; i < proxy->fiducials().size(); ++i) {
+      const wire::Fiducial& f = proxy->fiducials()[i];
+      if (proxy->kind(i) != which.kind || f.id() != which.id) continue;
       // Sensor frame to robot frame through the mount.
       const double c = std::cos(e.a), s = std::sin(e.a);
       const double x = e.x + c * f.x() - s * f.y(), y = e.y + s * f.x() + c * f.y();
@@ -191,4 +201,4 @@ std::optional<Feature> SensorContainer::odometry(int axis) const {
   return std::nullopt;
 }
 
-}  // namespace troupe::client
+}  // namespace troupe::examples

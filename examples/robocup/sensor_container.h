@@ -14,7 +14,8 @@
 //   ownGoalDistance, ownGoalBearing  the centre of the goal to defend
 //   obstacleDistance, obstacleBearing  the nearest return of any ranger
 //   odometryX, odometryY, odometryHeading  the base's odometry (m, m, rad)
-// Fiducial ids follow the RoboCup landmark codes (wire/landmark_code.h).
+// Fiducials are told apart by their kind (ball, goal) and id, as a RoboCup
+// world serves them (host-sim/robocup/api/fiducial_key.h).
 // When several sensors provide a feature, the newest sample wins.
 #pragma once
 
@@ -27,7 +28,10 @@
 
 #include "wire/client/proxies.h"
 
-namespace troupe::client {
+namespace troupe::examples {
+
+using client::Client;
+using client::Proxy;
 
 enum class Team : uint8_t { Blue = 0, Yellow = 1 };
 
@@ -97,7 +101,11 @@ class SensorContainer {
   };
   /// Landmark `code`'s distance (m) or bearing (rad) in the robot frame,
   /// from the newest sensor whose latest sample holds it.
-  std::optional<Feature> landmark(int32_t code, bool bearing) const;
+  struct Landmark {
+    wire::FiducialKind kind;
+    int32_t id;
+  };
+  std::optional<Feature> landmark(Landmark which, bool bearing) const;
   std::optional<Feature> obstacle(bool bearing) const;
   std::optional<Feature> odometry(int axis) const;
 
@@ -107,4 +115,4 @@ class SensorContainer {
   Team team_ = Team::Blue;
 };
 
-}  // namespace troupe::client
+}  // namespace troupe::examples

@@ -1,0 +1,94 @@
+// troupe-sim runs and serves a RoboCup match written as a Stage world
+// (examples/robocup/match.world): the real program over TCP, its devices,
+// the one simulation:0 handler (models with the ball and the field, poses,
+// the game), a goal scored and counted; and batch runs end with the score.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "tests/support/child_process.h"
+#include "wire/client/client.h"
+#include "wire/client/proxies.h"
+
+namespace troupe::robocup {
+namespace {
+
+using client::Client;
+
+const std::string kSim = TROUPE_BINARY_DIR "/bin/troupe-sim";
+const std::string kMatch = TROUPE_SOURCE_DIR "/examples/robocup/match.world";
+
+class MatchInTroupeSim : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::make_temp_dir("troupe-match");
+    ASSERT_FALSE(dir_.empty());
+    std::string error;
+    ASSERT_TRUE(sim_.start({kSim, kMatch, "--port", "0", "--no-view", "--paused"}, dir_, "sim", error)) << error;
+    ASSERT_TRUE(sim_.wait_for("listening on", false, 60000)) << sim_.err();
+    const std::string out = sim_.out();
+    port_ = uint16_t(std::stoi(out.substr(out.rfind(':') + 1)));
+  }
+  void TearDown() override {
+    sim_.stop();
+    testing::remove_tree(dir_);
+  }
+
+  std::string dir_;
+  testing::ChildProcess sim_;
+  uint16_t port_ = 0;
+};
+
+TEST_F(MatchInTroupeSim, ServesTheMatchThroughTheOneSimulationHandler) {
+  Client c("127.0.0.1", port_);
+  ASSERT_TRUE(c.connect()) << c.error();
+  std::vector<client::DeviceEntry> devices;
+  ASSERT_TRUE(c.device_list(devices));
+  std::vector<std::string> names;
+  for (const auto& d : devices) names.push_back(d.text());
+  EXPECT_NE(std::find(names.begin(), names.end(), "yellow3/actuator:0"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "blue1/ranger:0"), names.end());
+
+  // The viewer's model list: 8 robots, then the ball as a disc, and the field.
+  const wire::Address sim_addr(0, uint16_t(wire::Interface::Simulation), 0);
+  const client::Reply models = c.request(sim_addr, uint8_t(wire::SimulationReqSub::Models));
+  ASSERT_TRUE(models.ok()) << models.text;
+  const wire::SimModelList* list = models.message()->body_as_SimModelList();
+  ASSERT_TRUE(list && list->models() && list->field());
+  ASSERT_EQ(list->models()->size(), 9u);
+  EXPECT_EQ(list->models()->Get(0)->name()->str(), "blue0");
+  EXPECT_EQ(list->models()->Get(8)->name()->str(), "ball");
+  EXPECT_EQ(list->models()->Get(8)->shape(), wire::SimShape::Disc);
+  EXPECT_EQ(list->field()->length(), 9.0f);
+
+  client::SimulationProxy sim(c);
+
+  // A goal for blue: the ball behind the yellow goal line.
+  ASSERT_TRUE(sim.set_pose("ball", {4.8f, 0, 0}));
+  ASSERT_TRUE(sim.step(2));
+  client::Pose2 ball;
+  ASSERT_TRUE(sim.get_pose("ball", ball));
+  EXPECT_GT(ball.x, 4.5f);
+  client::GameState game;
+  ASSERT_TRUE(sim.get_game(game));
+  EXPECT_EQ(game.score_blue, 1u);
+  EXPECT_EQ(game.score_yellow, 0u);
+  // Bad requests are refused and the match goes on.
+  EXPECT_FALSE(sim.set_pose("nobody", {0, 0, 0}));
+  EXPECT_NE(c.error().find("no model named 'nobody'"), std::string::npos) << c.error();
+  EXPECT_TRUE(sim.step(1));
+}
+
+TEST(MatchBatch, RunsToItsQuitTimeAndSaysTheScore) {
+  const auto r = testing::run_to_end({kSim, kMatch, "--no-serve", "--fast", "--quit-time", "3"}, 120000);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("3.00 s simulated; score blue"), std::string::npos) << r.err;
+  const auto refused = testing::run_to_end({kSim, kMatch, "--no-serve", "--snapshot", "x.png"}, 60000);
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.err.find("--snapshot is for Stage worlds"), std::string::npos) << refused.err;
+}
+
+}  // namespace
+}  // namespace troupe::robocup
