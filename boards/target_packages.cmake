@@ -7,3 +7,8 @@
 
 set(TROUPE_DRIVER_PACKAGES_p2os libserial-dev libserial1)
 set(TROUPE_DRIVER_PACKAGES_sicklms200 libserial-dev libserial1)
+# ros2 links Cyclone DDS; the runtime packages are the library and what it
+# loads (Debian 12's is built with iceoryx shared memory and OpenSSL). Cross
+# builds of ros2 are untested: Cyclone's headers also want iceoryx's.
+set(TROUPE_DRIVER_PACKAGES_ros2 cyclonedds-dev libddsc0debian libiceoryx-binding-c2 libiceoryx-posh2
+    libiceoryx-hoofs2 libiceoryx-platform2 libacl1 libssl3)

@@ -126,6 +126,12 @@ class Node final : public TimerHandler {
   bool request(DeviceId device, uint8_t subtype, uint32_t seq, wire::Body type,
                flatbuffers::Offset<void> body, Driver* from);
 
+  /// Sends a command with the body built since begin() to another driver's
+  /// `device` (a bridge passing on velocities from another ecosystem). It is
+  /// delivered like a client's: at the end of the loop iteration, the newest
+  /// for the device replacing any still waiting.
+  void command(DeviceId device, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body);
+
   /// Replies Ack with the body built since begin() (or none).
   void ack(RequestToken token, wire::Body type = wire::Body::NONE,
            flatbuffers::Offset<void> body = 0);

@@ -11,6 +11,7 @@ set(BOARD_DRIVERS
   fusion
   passthrough
   replay
+  ros2
 )
 set(BOARD_CONFIG_FORMAT json)
 set(BOARD_HOST_TOOLS ON)

@@ -38,7 +38,7 @@ class ChildProcess {
   bool wait_for(const std::string& needle, bool in_err, int timeout_ms) const;
   /// False once the child has exited (or was never started).
   bool running() const;
-  /// The child's process id (for /proc/PID), -1 before start().
+  /// The child's process id (for /proc/PID; benchmarks read its CPU time), -1 before start().
   pid_t pid() const { return pid_; }
   /// Waits until the child exits, at most `timeout_ms`; its exit status,
   /// or -1 when it was killed by a signal or still runs.

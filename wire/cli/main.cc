@@ -46,6 +46,7 @@ constexpr Command kCommands[] = {
     {"view", "HOST", "the browser viewer for a live node", nullptr},
     {"logmap", "LOG -o MAP.png", "draw an occupancy map from a CARMEN log", nullptr},
     {"mcl-eval", "LOG", "Monte Carlo localization on a CARMEN log, scored", nullptr},
+    {"ros2", "HOST", "publish every device of a node or simulator on ROS 2", nullptr},
     {"robocup", "WORLD", "run a RoboCup F2000 world", nullptr},
     {"goalkeeper-bench", "", "the goalkeeper benchmark table", nullptr},
     {"robocup-motion", "record|fit|check", "train and check the learned motion model", nullptr},
