@@ -19,7 +19,7 @@ class Endianness : public ::testing::Test {
     if (!load_cross_build("ppc-node-powerpc", build_, why)) {
       GTEST_SKIP() << why;
     }
-    tool_ = build_.path("tests/cross/target/troupe-frame-tool");
+    tool_ = build_.path("bin/troupe-frame-tool");
     dir_ = make_temp_dir("endian");
     ASSERT_FALSE(dir_.empty());
   }

@@ -16,6 +16,9 @@ namespace troupe::sim {
 namespace {
 
 const std::string kWorld = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
+// The build's controller plugins: a test program does not sit in bin/, so
+// the loader's "../lib/troupe beside the program" does not reach them.
+const std::string kPlugins = TROUPE_BINARY_DIR "/lib/troupe";
 
 // Mean distance from each robot to its nearest neighbour, m.
 double mean_distance(const World& w) {
@@ -36,6 +39,7 @@ TEST(Swarm100, AggregatesWithInProcessControllers) {
   SimOptions o;
   o.world = kWorld;
   o.fast = true;
+  o.plugin_path = {kPlugins};
   o.quit_time = 60;
   o.serve = false;
   Runner runner;
@@ -62,6 +66,7 @@ TEST(Swarm100, AggregatesDrivenByOneClientPerRobot) {
   o.world = kWorld;
   o.port = 0;
   o.no_ctrl = true;
+  o.plugin_path = {kPlugins};
   o.speed = 4;  // four times real time: 8 s of wall time are 32 s simulated
   Runner runner;
   world::Diagnostics d;
@@ -120,6 +125,7 @@ bot ( name "d" pose [ -2 2 0 270 ] )
     SimOptions o;
     o.world = world;
     o.fast = true;
+    o.plugin_path = {kPlugins};
     o.quit_time = 60;
     o.serve = false;
     o.seed = seed;
