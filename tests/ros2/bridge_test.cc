@@ -162,7 +162,7 @@ TEST_F(BridgeTest, AHugeCmdVelIsClampedToTheLimits) {
   troupe::client::Position2dProxy base(
       c, troupe::wire::Address(0, uint16_t(troupe::wire::Interface::Position2d), 0));
   ASSERT_TRUE(c.open(base.address(), troupe::wire::Access::Read));
-  float fastest = 0, fastest_turn = 0;
+  double fastest = 0, fastest_turn = 0;
   ASSERT_TRUE(drive_until(cmd, twist(1e30, -1e30), [&] {
     fastest = std::max(fastest, std::fabs(base.velocity().x));
     fastest_turn = std::max(fastest_turn, std::fabs(base.velocity().a));
@@ -175,8 +175,8 @@ TEST_F(BridgeTest, AHugeCmdVelIsClampedToTheLimits) {
     fastest = std::max(fastest, std::fabs(base.velocity().x));
     fastest_turn = std::max(fastest_turn, std::fabs(base.velocity().a));
   }
-  EXPECT_LE(fastest, 0.2f + 1e-4f);
-  EXPECT_LE(fastest_turn, 0.3f + 1e-4f);
+  EXPECT_LE(fastest, 0.2 + 1e-4);
+  EXPECT_LE(fastest_turn, 0.3 + 1e-4);
   EXPECT_TRUE(bridge_.wait_for("clamped to", true, kWaitMs));
 }
 
