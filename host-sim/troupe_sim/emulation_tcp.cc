@@ -57,7 +57,9 @@ P2osTcp::~P2osTcp() {
 }
 
 bool P2osTcp::open(World& world, const std::string& listen, int base_port, std::string& error) {
-  listen_ = listen;
+  // ARIA resolves its -remoteHost to IPv4 only (gethostbyname), so the
+  // default "localhost" listen serves the Pioneers on 127.0.0.1.
+  listen_ = listen == "localhost" ? "127.0.0.1" : listen;
   robots_.resize(world.robot_count());
   for (RobotId id = 0; id < world.robot_count(); ++id) {
     Robot& r = robots_[id];
@@ -68,7 +70,7 @@ bool P2osTcp::open(World& world, const std::string& listen, int base_port, std::
       error = "--p2os-tcp: robot " + r.name + " would need port " + std::to_string(base_port + int(id));
       return false;
     }
-    r.listen_fd = listen_on(listen, want, r.port, error);
+    r.listen_fd = listen_on(listen_, want, r.port, error);
     if (r.listen_fd < 0) {
       error = "--p2os-tcp: robot " + r.name + ": " + error;
       return false;
