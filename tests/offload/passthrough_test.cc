@@ -85,7 +85,9 @@ class Passthrough : public ::testing::Test {
     std::vector<std::string> args = {kNode, path, "--port", std::to_string(port), "--log-level", "debug"};
     if (!listen.empty()) args.insert(args.end(), {"--listen", listen});
     ASSERT_TRUE(p.start_logged(args, dir_ + "/" + name + ".log", error)) << error;
-    if (listen.empty()) ASSERT_TRUE(wait_for_listener(port, kDeadlineS)) << name << " does not listen on " << port;
+    if (listen.empty()) {
+      ASSERT_TRUE(wait_for_listener(port, kDeadlineS)) << name << " does not listen on " << port;
+    }
   }
 
   // Connects `c` and follows the status device's text into status_.
