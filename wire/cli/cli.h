@@ -22,6 +22,10 @@ int usage_error(std::string_view command, const std::string& message);
 void add_host(CLI::App& app, std::string& host);
 void add_device(CLI::App& app, std::string& addr);
 
+/// Adds a secure session's transport to `options` when --identity and
+/// --node-key were given (add_host() adds them); prints and returns false
+/// when a key cannot be read or only one was given.
+bool secure_options(client::Client::Options& options);
 /// Parses "HOST[:PORT]" and connects; on failure prints one line and returns
 /// nullptr. `reconnect`: keep trying after a lost connection (echo, teleop).
 std::unique_ptr<client::Client> connect(const std::string& host_port, bool reconnect = false);
@@ -41,6 +45,7 @@ int cmd_ls(const std::vector<std::string>& args);
 int cmd_echo(const std::vector<std::string>& args);
 int cmd_send(const std::vector<std::string>& args, wire::Kind kind);  // cmd and req
 int cmd_teleop(const std::vector<std::string>& args);
+int cmd_keygen(const std::vector<std::string>& args);
 
 /// The verbs of `cmd`/`req` for an interface, a line each with arguments
 /// and units (for help), or comma-separated names only (for errors).

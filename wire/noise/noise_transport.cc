@@ -1,5 +1,7 @@
 #include "wire/noise/noise_transport.h"
 
+#include "wire/noise/key_file.h"
+
 #include <algorithm>
 #include <utility>
 
@@ -19,6 +21,8 @@ const Key& NoiseTransport::peer_key() const {
   if (options_.role == Role::Initiator) return options_.peer_key;
   return handshake_ != nullptr ? handshake_->remote_static() : kNone;
 }
+
+std::string NoiseTransport::peer_identity() const { return ready_ ? key_hex(peer_key()) : std::string(); }
 
 void NoiseTransport::begin(std::vector<uint8_t>& out) {
   handshake_ = std::make_unique<HandshakeIK>(options_.role, options_.identity, prologue_bytes(),

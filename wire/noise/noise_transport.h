@@ -55,6 +55,7 @@ class NoiseTransport final : public Transport {
   bool inbound(std::span<const uint8_t> bytes, FrameReader& frames, std::vector<uint8_t>& out,
                std::string& error) override;
   void outbound(std::span<const uint8_t> frames, std::vector<uint8_t>& out) override;
+  std::string peer_identity() const override;
 
   /// The peer's static public key once the handshake has told it (the
   /// responder's from the start).
