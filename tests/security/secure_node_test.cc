@@ -120,6 +120,26 @@ TEST_F(SecureNode, PlainClientIsRefused) {
   expect_refused(troupe({"ls", host_}, "", ""), "did not open a secure session");
 }
 
+TEST_F(SecureNode, TheKnownNodesFileNamesTheNodesKey) {
+  // The CLI's known-nodes file: $XDG_CONFIG_HOME/troupe/known_nodes.
+  const std::string config_home = dir_ + "/config";
+  ASSERT_EQ(::mkdir(config_home.c_str(), 0700), 0);
+  ASSERT_EQ(::mkdir((config_home + "/troupe").c_str(), 0700), 0);
+  ASSERT_EQ(::setenv("XDG_CONFIG_HOME", config_home.c_str(), 1), 0);
+  Result unknown = troupe({"ls", host_}, "laptop", "");
+  EXPECT_NE(unknown.rc, 0);
+  EXPECT_NE(unknown.err.find("no key known for " + host_), std::string::npos) << unknown.err;
+
+  std::string tag, key;
+  std::ifstream(dir_ + "/node.pub") >> tag >> key;
+  std::ofstream(config_home + "/troupe/known_nodes") << "# nodes this laptop talks to\nother:6665 " << key << "\n"
+                                                      << host_ << " " << key << "\n";
+  Result known = troupe({"ls", host_}, "laptop", "");
+  ::unsetenv("XDG_CONFIG_HOME");
+  EXPECT_EQ(known.rc, 0) << known.err;
+  EXPECT_EQ(known.out, "position2d:0\tkinematic\n");
+}
+
 TEST_F(SecureNode, SecretKeyOthersCanReadIsRefused) {
   ASSERT_EQ(::chmod((dir_ + "/laptop").c_str(), 0644), 0);
   Result r = troupe({"ls", host_}, "laptop", "node.pub");

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "wire/address.h"
 #include "wire/cli/args.h"
 #include "wire/client/client.h"
 
@@ -22,10 +23,11 @@ int usage_error(std::string_view command, const std::string& message);
 void add_host(CLI::App& app, std::string& host);
 void add_device(CLI::App& app, std::string& addr);
 
-/// Adds a secure session's transport to `options` when --identity and
-/// --node-key were given (add_host() adds them); prints and returns false
-/// when a key cannot be read or only one was given.
-bool secure_options(client::Client::Options& options);
+/// Adds a secure session's transport to `options` when --identity was
+/// given (add_host() adds it and --node-key; without --node-key the key is
+/// `node`'s line in the known-nodes file); prints and returns false when a
+/// key cannot be read or found.
+bool secure_options(const wire::HostPort& node, client::Client::Options& options);
 /// Parses "HOST[:PORT]" and connects; on failure prints one line and returns
 /// nullptr. `reconnect`: keep trying after a lost connection (echo, teleop).
 std::unique_ptr<client::Client> connect(const std::string& host_port, bool reconnect = false);

@@ -7,6 +7,7 @@
 #include <sodium.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -116,6 +117,40 @@ bool read_public_key(const std::string& path_or_hex, Key& out, std::string& erro
     return false;
   }
   return true;
+}
+
+std::string known_nodes_path() {
+  if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && *xdg != '\0') {
+    return std::string(xdg) + "/troupe/known_nodes";
+  }
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+    return std::string(home) + "/.config/troupe/known_nodes";
+  }
+  return {};
+}
+
+bool find_known_node(const std::string& path, const std::string& host_port, Key& out, std::string& error) {
+  const std::string how = "add the line \"" + host_port + " <the node's key: 64 hex digits>\" to " + path +
+                          ", or name the key with --node-key";
+  std::ifstream in(path);
+  if (!in) {
+    error = "no key known for " + host_port + " (no " + path + "): " + how;
+    return false;
+  }
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string node, hex;
+    if (!(words >> node) || node.front() == '#' || node != host_port) continue;
+    words >> hex;
+    if (!parse_key_hex(hex, out)) {
+      error = path + ":" + std::to_string(number) + ": the key of " + host_port + " is not 64 hex digits";
+      return false;
+    }
+    return true;
+  }
+  error = "no key known for " + host_port + " in " + path + ": " + how;
+  return false;
 }
 
 }  // namespace troupe::wire::noise

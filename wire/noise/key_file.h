@@ -5,6 +5,10 @@
 //   NAME.pub  "troupe-x25519 <64 hex digits> NAME\n": what the other side
 //             is given (a node's config lists its clients' .pub files; a
 //             client names the node's public key)
+//
+// and a client's known nodes (as SSH's known_hosts): one node a line,
+// "HOST:PORT <64 hex digits>" (an IPv6 host in brackets); blank lines and
+// lines starting with '#' are skipped.
 #pragma once
 
 #include <string>
@@ -26,5 +30,13 @@ bool write_key_pair(const std::string& path, const std::string& name, std::strin
 bool read_secret_key(const std::string& path, KeyPair& out, std::string& error);
 /// Reads a public key: a .pub file, or 64 hex digits given directly.
 bool read_public_key(const std::string& path_or_hex, Key& out, std::string& error);
+
+/// The user's known-nodes file: $XDG_CONFIG_HOME/troupe/known_nodes, else
+/// $HOME/.config/troupe/known_nodes ("" when neither variable is set).
+std::string known_nodes_path();
+/// The key `path` lists for `host_port` ("HOST:PORT"). False when the file
+/// or the node is missing (`error` says which and how to add it), or the
+/// node's line is malformed.
+bool find_known_node(const std::string& path, const std::string& host_port, Key& out, std::string& error);
 
 }  // namespace troupe::wire::noise
