@@ -1,9 +1,9 @@
 #include "wire/noise/noise_transport.h"
 
-#include "wire/noise/key_file.h"
-
 #include <algorithm>
 #include <utility>
+
+#include "wire/noise/key_file.h"
 
 namespace troupe::wire::noise {
 namespace {
