@@ -273,7 +273,7 @@ TEST(NoiseTransport, AlteredMessageEndsTheSession) {
 TEST(NoiseTransport, TruncatedMessageEndsTheSession) {
   Recorded r;
   auto cut = r.m[0];
-  cut.resize(cut.size() - 5);
+  cut.erase(cut.end() - 5, cut.end());
   const size_t n = cut.size() - 2;
   cut[0] = static_cast<uint8_t>(n >> 8);
   cut[1] = static_cast<uint8_t>(n);
