@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   }
 #else
   if (cfg.root->key() != nullptr) {
-    troupe::log_error("%s: \"key\": board %s is built without libsodium: no secure sessions", cfg.path.c_str(),
+    troupe::log_error("%s: \"key\": board %s is built without secure sessions (libsodium)", cfg.path.c_str(),
                       troupe::kBoardName);
     return 1;
   }
