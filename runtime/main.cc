@@ -14,6 +14,9 @@
 #include "runtime/args.h"
 #include "runtime/log.h"
 #include "runtime/node_config.h"
+#ifdef TROUPE_HAVE_NOISE
+#include "runtime/node_secure.h"
+#endif
 #include "runtime/stop_signals.h"
 
 namespace {
@@ -113,6 +116,19 @@ int main(int argc, char** argv) {
     if (!flag_number("--idle-timeout-ms", idle_timeout, 0, UINT32_MAX, n)) return 2;
     options.idle_timeout_ms = uint32_t(n);
   }
+
+#ifdef TROUPE_HAVE_NOISE
+  if (!troupe::secure_sessions(cfg, options, error)) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
+#else
+  if (cfg.root->key() != nullptr) {
+    troupe::log_error("%s: \"key\": board %s is built without secure sessions (libsodium)", cfg.path.c_str(),
+                      troupe::kBoardName);
+    return 1;
+  }
+#endif
 
   troupe::Node node(options);
   if (!troupe::build_node(node, cfg, error)) {

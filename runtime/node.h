@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "runtime/driver.h"
 #include "runtime/event_loop.h"
+#include "wire/connection/transport.h"
 #include "wire/frame.h"
 #include "wire/writer.h"
 
@@ -56,6 +58,10 @@ class Node final : public TimerHandler {
     /// Requests waiting for drivers at once.
     uint32_t max_pending_requests = 256;
     size_t max_timers = 256;
+    /// Secure sessions: makes the transport of each new connection (a
+    /// wire/noise NoiseTransport; its handshake runs before any frame, and
+    /// data stays on TCP). Unset: plain TCP.
+    std::function<std::unique_ptr<wire::Transport>()> make_transport;
   };
 
   explicit Node(Options options);

@@ -305,6 +305,12 @@ void Server::accept_clients(int listen_fd) {
     client_of_fd_[size_t(fd)] = index + 1;
     node_.loop().watch(fd, EPOLLIN, this);
     c.writing = false;
+    if (node_.options().make_transport) {
+      c.transport = node_.options().make_transport();
+      c.sealed.clear();
+      c.transport->begin(c.sealed);  // the node answers: nothing to send yet
+      c.raw.resize(kReadChunk);
+    }
     log_debug("client %u connected (fd %d)", index, fd);
     node_.send_hello(index);
   }
@@ -370,7 +376,8 @@ void Server::read_client(uint32_t index) {
   Client& c = clients_[index];
   const wire::Limits& limits = node_.options().limits;
   for (int i = 0; i < kReadsPerEvent && c.state == State::Open; ++i) {
-    std::span<uint8_t> space = c.reader.write_space(kReadChunk);
+    const bool secure = c.transport != nullptr;
+    std::span<uint8_t> space = secure ? std::span<uint8_t>(c.raw) : c.reader.write_space(kReadChunk);
     ssize_t n = recv(c.fd, space.data(), space.size(), MSG_DONTWAIT);
     if (n < 0) {
       if (errno == EINTR) continue;
@@ -393,7 +400,11 @@ void Server::read_client(uint32_t index) {
       }
       return;
     }
-    c.reader.commit(size_t(n));
+    if (!secure) {
+      c.reader.commit(size_t(n));
+    } else if (!open_secure(index, {space.data(), size_t(n)})) {
+      return;
+    }
     for (;;) {
       std::span<const uint8_t> frame = c.reader.next();
       if (frame.empty()) {
@@ -423,6 +434,29 @@ void Server::read_client(uint32_t index) {
   }
 }
 
+bool Server::open_secure(uint32_t index, std::span<const uint8_t> bytes) {
+  Client& c = clients_[index];
+  const bool was_ready = c.transport->ready();
+  c.sealed.clear();
+  std::string why;
+  if (!c.transport->inbound(bytes, c.reader, c.sealed, why)) {
+    // Nothing can reach a peer that failed the handshake or broke the
+    // session: no Error frame, the connection just ends.
+    log_warn("client %u: secure session refused: %s", index, why.c_str());
+    close_client(index);
+    return false;
+  }
+  if (!c.sealed.empty()) {
+    // The handshake's answer goes first, before the Hello waiting in out.
+    c.partial.insert(c.partial.end(), c.sealed.begin(), c.sealed.end());
+  }
+  if (!was_ready && c.transport->ready()) {
+    log_info("client %u: secure session with key %s", index, c.transport->peer_identity().c_str());
+  }
+  if (!c.sealed.empty() || (!was_ready && c.transport->ready())) flush(index);
+  return c.state == State::Open;
+}
+
 void Server::handle_hello(uint32_t index, const wire::Message& msg) {
   const wire::Hello* hello = msg.body_as_Hello();  // present: checked by the router
   if (hello->protocol_version() != wire::kProtocolVersion) {
@@ -434,7 +468,10 @@ void Server::handle_hello(uint32_t index, const wire::Message& msg) {
   }
   Client& c = clients_[index];
   c.max_frame = hello->max_frame_bytes();
-  if (hello->udp_port() != 0 && udp_for(c.peer.ss_family) < 0) {
+  if (hello->udp_port() != 0 && c.transport != nullptr) {
+    // Datagrams would travel outside the secure session.
+    log_warn("client %u asked for UDP data, but its session is secure; data stays on TCP", index);
+  } else if (hello->udp_port() != 0 && udp_for(c.peer.ss_family) < 0) {
     log_warn("client %u asked for UDP data, but UDP is disabled; data stays on TCP", index);
   } else {
     c.udp_port = hello->udp_port();
@@ -479,7 +516,24 @@ void Server::flush(uint32_t index) {
     c.partial_head += size_t(n);
     if (c.partial_head < c.partial.size()) return want_write(index, true);
   }
-  // 2. Reliable frames, in order.
+  // A secure session's frames wait until its handshake is over.
+  if (c.transport != nullptr && !c.transport->ready()) return want_write(index, false);
+  // 2. Reliable frames, in order; a secure session seals them all at once
+  // (a sealed message must go whole): what the socket leaves goes to partial.
+  if (c.transport != nullptr && c.out_head < c.out.size()) {
+    c.sealed.clear();
+    c.transport->outbound({c.out.data() + c.out_head, c.out.size() - c.out_head}, c.sealed);
+    c.out_head = c.out.size();
+    long n = write_some(c, c.sealed);
+    if (n < 0) return failed();
+    if (size_t(n) < c.sealed.size()) {
+      c.partial.assign(c.sealed.begin() + n, c.sealed.end());
+      c.partial_head = 0;
+      c.out.clear();
+      c.out_head = 0;
+      return want_write(index, true);
+    }
+  }
   if (c.out_head < c.out.size()) {
     long n = write_some(c, {c.out.data() + c.out_head, c.out.size() - c.out_head});
     if (n < 0) return failed();
@@ -501,7 +555,12 @@ void Server::flush(uint32_t index) {
       if (!(bits & (1u << slot))) continue;
       bits &= uint8_t(~(1u << slot));
       reader->dirty = bits;
-      const std::vector<uint8_t>& frame = node_.devices_[dev].slots[slot].frame;
+      std::span<const uint8_t> frame = node_.devices_[dev].slots[slot].frame;
+      if (c.transport != nullptr) {
+        c.sealed.clear();
+        c.transport->outbound(frame, c.sealed);
+        frame = c.sealed;
+      }
       long n = write_some(c, frame);
       if (n < 0) return failed();
       if (size_t(n) < frame.size()) {
@@ -627,6 +686,7 @@ void Server::close_client(uint32_t index) {
   c.writing = false;
   c.udp_port = 0;
   c.max_frame = 0;
+  c.transport.reset();
 }
 
 void Server::close_all() {

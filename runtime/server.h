@@ -19,12 +19,14 @@
 #include <sys/socket.h>
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "runtime/driver.h"
 #include "runtime/event_loop.h"
+#include "wire/connection/transport.h"
 #include "wire/frame.h"
 
 namespace troupe {
@@ -71,6 +73,12 @@ class Server final : public FdHandler, public TimerHandler {
     size_t out_head = 0;
     std::vector<uint8_t> partial;  // rest of a data frame the socket took part of
     size_t partial_head = 0;
+    // Secure sessions: the client's transport (null: plain TCP). Frames are
+    // sealed as they go to the socket; sealed bytes the socket did not take
+    // wait in `partial` (a sealed message must be sent whole, in order).
+    std::unique_ptr<wire::Transport> transport;
+    std::vector<uint8_t> sealed;  // scratch: one batch of sealed bytes
+    std::vector<uint8_t> raw;     // scratch: socket bytes for the transport
     std::vector<DeviceId> dirty;  // devices with data not yet sent, FIFO
     size_t dirty_head = 0;
     std::vector<DeviceId> opened;  // devices this client is a reader of
@@ -101,6 +109,9 @@ class Server final : public FdHandler, public TimerHandler {
   /// Writes as much of `bytes` as the socket takes; returns bytes written,
   /// or -1 when the connection failed.
   long write_some(Client& c, std::span<const uint8_t> bytes);
+  /// A secure client's bytes: through its transport into its frame reader.
+  /// False when the connection was closed (refused or failed).
+  bool open_secure(uint32_t index, std::span<const uint8_t> bytes);
   void want_write(uint32_t index, bool on);
   void close_client(uint32_t index);
   void handle_hello(uint32_t index, const wire::Message& msg);

@@ -20,7 +20,7 @@ TEST(CliHelp, TheCommandListNamesCommandsAndHasExamples) {
     EXPECT_EQ(r.out.rfind("usage: troupe COMMAND", 0), 0u) << r.out;
     EXPECT_NE(r.out.find("\nexamples:\n  troupe "), std::string::npos) << r.out;
     CommandList list = listed_commands(r.out);
-    EXPECT_EQ(list.built_in, (std::vector<std::string>{"ls", "echo", "cmd", "req", "teleop"})) << r.out;
+    EXPECT_EQ(list.built_in, (std::vector<std::string>{"ls", "echo", "cmd", "req", "teleop", "keygen"})) << r.out;
     // The programs of this build, each run as troupe-NAME.
     for (const char* program : {"record", "play", "sim", "node", "view", "emulate-p2os", "emulate-sick",
                                 "emulate-odrive"}) {
@@ -32,7 +32,7 @@ TEST(CliHelp, TheCommandListNamesCommandsAndHasExamples) {
 TEST(CliHelp, EveryListedCommandRunsAndHasHelpWithExamples) { expect_every_listed_command_has_help(kTroupe); }
 
 TEST(CliHelp, HelpWinsWhereverItIsBeforeAnyConnection) {
-  for (const std::string name : {"ls", "echo", "cmd", "req", "teleop"}) {
+  for (const std::string name : {"ls", "echo", "cmd", "req", "teleop", "keygen"}) {
     expect_help(run_troupe(kTroupe, name + " no-such-host.invalid --help"), name, name + " HOST --help");
   }
 }

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "wire/address.h"
 #include "wire/cli/args.h"
 #include "wire/client/client.h"
 
@@ -22,6 +23,11 @@ int usage_error(std::string_view command, const std::string& message);
 void add_host(CLI::App& app, std::string& host);
 void add_device(CLI::App& app, std::string& addr);
 
+/// Adds a secure session's transport to `options` when --identity was
+/// given (add_host() adds it and --node-key; without --node-key the key is
+/// `node`'s line in the known-nodes file); prints and returns false when a
+/// key cannot be read or found.
+bool secure_options(const wire::HostPort& node, client::Client::Options& options);
 /// Parses "HOST[:PORT]" and connects; on failure prints one line and returns
 /// nullptr. `reconnect`: keep trying after a lost connection (echo, teleop).
 std::unique_ptr<client::Client> connect(const std::string& host_port, bool reconnect = false);
@@ -41,6 +47,7 @@ int cmd_ls(const std::vector<std::string>& args);
 int cmd_echo(const std::vector<std::string>& args);
 int cmd_send(const std::vector<std::string>& args, wire::Kind kind);  // cmd and req
 int cmd_teleop(const std::vector<std::string>& args);
+int cmd_keygen(const std::vector<std::string>& args);
 
 /// The verbs of `cmd`/`req` for an interface, a line each with arguments
 /// and units (for help), or comma-separated names only (for errors).

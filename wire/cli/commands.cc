@@ -59,6 +59,7 @@ int cmd_echo(const std::vector<std::string>& args) {
   client::Client::Options options;
   options.name = "troupe-echo";
   options.udp_data = p.udp;
+  if (!secure_options(hp, options)) return kExitFailure;
   client::Client c(hp.host, hp.port, options);
   if (!c.connect(3000)) return fail(c.error());
   wire::Address addr;

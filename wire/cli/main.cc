@@ -13,6 +13,7 @@
 namespace {
 
 using troupe::cli::cmd_echo;
+using troupe::cli::cmd_keygen;
 using troupe::cli::cmd_ls;
 using troupe::cli::cmd_teleop;
 
@@ -39,6 +40,7 @@ constexpr Command kCommands[] = {
     {"cmd", "HOST ADDR VERB ARGS", "send a command (e.g. vel 0.3 0 0.2)", cmd_command},
     {"req", "HOST ADDR VERB ARGS", "send a request and print its reply", cmd_request},
     {"teleop", "HOST ADDR", "drive a position2d device with the keyboard", cmd_teleop},
+    {"keygen", "NAME", "write a key pair for secure sessions (NAME, NAME.pub)", cmd_keygen},
     {"record", "HOST ADDR... -o FILE", "record devices' data to a log file", nullptr},
     {"play", "FILE", "serve a recorded log again, as a node", nullptr},
     {"sim", "WORLD", "simulate a Stage world and serve its robots", nullptr},

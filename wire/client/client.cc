@@ -46,8 +46,8 @@ Client::Client(std::string host, uint16_t port) : Client(std::move(host), port, 
 Client::Client(std::string host, uint16_t port, Options options)
     : host_(std::move(host)),
       options_(std::move(options)),
-      link_(host_, port, connection_options(host_, port, options_), options_.resolver) {
-  if (options_.udp_data) open_udp();
+      link_(host_, port, connection_options(host_, port, options_), options_.resolver, options_.transport.get()) {
+  if (options_.udp_data && options_.transport == nullptr) open_udp();
 }
 
 Client::~Client() {

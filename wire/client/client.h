@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "wire/connection/socket_link.h"
+#include "wire/connection/transport.h"
 #include "wire/frame.h"
 #include "wire/writer.h"
 
@@ -72,6 +73,10 @@ class Client {
     uint32_t keepalive_timeout_ms = 6000;
     /// Looks up the host: every address it gives is tried, in order.
     wire::Resolver resolver = wire::resolve_system;
+    /// Secure sessions: the transport every connection runs through (a
+    /// wire/noise NoiseTransport holding our identity and the node's public
+    /// key). Null: plain TCP. Data then stays on TCP (udp_data is ignored).
+    std::shared_ptr<wire::Transport> transport;
   };
 
   Client(std::string host, uint16_t port = wire::kDefaultPort);

@@ -274,6 +274,12 @@ void Connection::transport_closed(uint64_t now_us, std::string_view why) {
   closed_at_us_ = now_us;
   close_why_ = why.empty() ? options_.peer + " closed the connection"
                            : "connection to " + options_.target + " lost: " + std::string(why);
+  // A secure node answers nothing to a handshake it refuses: say what that
+  // can mean.
+  if (why.empty() && transport_ != nullptr && !transport_->ready()) {
+    close_why_ += " during the secure handshake: it does not accept our key, does not hold the key we know for it, "
+                  "or does not speak secure sessions";
+  }
 }
 
 std::span<const uint8_t> Connection::output() const {

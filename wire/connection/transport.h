@@ -32,6 +32,9 @@ class Transport {
                        std::string& error) = 0;
   /// Whole frames to send (only once ready): appends what goes on the socket.
   virtual void outbound(std::span<const uint8_t> frames, std::vector<uint8_t>& out) = 0;
+  /// Who the peer proved to be, as text for logs (a public key in hex),
+  /// once ready; empty when the transport does not authenticate.
+  virtual std::string peer_identity() const { return {}; }
 };
 
 }  // namespace troupe::wire

@@ -1,0 +1,159 @@
+// Secure sessions end to end, as a user sets them up: `troupe keygen` for the
+// node and its clients, a real troupe-node whose config names its key and
+// its clients, and the troupe CLI (the C++ client library) as the client,
+// each a separate process on loopback.
+#include <sys/stat.h>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "tests/support/child_process.h"
+
+namespace {
+
+using troupe::testing::ChildProcess;
+
+const std::string kBin = std::string(TROUPE_BINARY_DIR) + "/bin";
+// Hang guard for each CLI run (a bound on a failing test), ms.
+constexpr int kRunMs = 30'000;
+
+struct Result {
+  int rc = -1;
+  std::string out, err;
+};
+
+Result run(const std::vector<std::string>& argv) {
+  auto r = troupe::testing::run_to_end(argv, kRunMs);
+  return {r.status, r.out, r.err};
+}
+
+mode_t mode_of(const std::string& path) {
+  struct stat st {};
+  ::stat(path.c_str(), &st);
+  return st.st_mode & 07777;
+}
+
+class SecureNode : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = troupe::testing::make_temp_dir("troupe-secure-");
+    ASSERT_FALSE(dir_.empty());
+    for (const char* name : {"node", "laptop", "stranger"}) {
+      Result r = run({kBin + "/troupe", "keygen", dir_ + "/" + name});
+      ASSERT_EQ(r.rc, 0) << r.err;
+    }
+    port_ = troupe::testing::free_port();
+    host_ = "127.0.0.1:" + std::to_string(port_);
+    config_ = dir_ + "/node.json";
+    std::ofstream(config_) << R"({
+  "name": "secure-test", "listen": "127.0.0.1", "port": )"
+                           << port_ << R"(,
+  "key": "node", "clients": ["laptop.pub"],
+  "drivers": [ { "driver_type": "kinematic", "driver": { "rate_hz": 20 }, "provides": ["position2d:0"] } ]
+})";
+    std::string error;
+    ASSERT_TRUE(node_.start({kBin + "/troupe-node", config_}, dir_, "troupe-node", error)) << error;
+    ASSERT_TRUE(troupe::testing::wait_for_listener(port_, 10)) << "troupe-node did not start: " << node_.err();
+  }
+  void TearDown() override {
+    if (node_.running()) {
+      EXPECT_EQ(node_.stop(), 0) << node_.err();
+    }
+    troupe::testing::remove_tree(dir_);
+  }
+  // `troupe ARGS... HOST` as `identity` with `node_key` ("" leaves the flag out).
+  Result troupe(std::vector<std::string> args, const std::string& identity, const std::string& node_key) {
+    args.insert(args.begin(), kBin + "/troupe");
+    if (!identity.empty()) args.insert(args.end(), {"--identity", dir_ + "/" + identity});
+    if (!node_key.empty()) args.insert(args.end(), {"--node-key", dir_ + "/" + node_key});
+    return run(args);
+  }
+  // The node's log has `text` (it logs a refusal as it closes the connection).
+  bool logged(const std::string& text) { return node_.wait_for(text, true, kRunMs); }
+  // `r` got nothing of the node, the node logged `node_says`, and it still
+  // serves its known client.
+  void expect_refused(const Result& r, const std::string& node_says) {
+    EXPECT_NE(r.rc, 0);
+    EXPECT_EQ(r.out, "") << "nothing of the node may reach a refused client";
+    EXPECT_TRUE(logged(node_says)) << node_.err();
+    Result known = troupe({"ls", host_}, "laptop", "node.pub");
+    EXPECT_EQ(known.rc, 0) << known.err;
+    EXPECT_EQ(known.out, "position2d:0\tkinematic\n");
+  }
+
+  ChildProcess node_;
+  std::string dir_, config_, host_;
+  uint16_t port_ = 0;
+};
+
+TEST_F(SecureNode, KeygenWritesAPrivateSecretAndRefusesToOverwrite) {
+  EXPECT_EQ(mode_of(dir_ + "/laptop"), 0600u);
+  EXPECT_EQ(mode_of(dir_ + "/laptop.pub"), 0644u);
+  Result again = run({kBin + "/troupe", "keygen", dir_ + "/laptop"});
+  EXPECT_NE(again.rc, 0);
+  EXPECT_NE(again.err.find("exists; not overwritten"), std::string::npos) << again.err;
+}
+
+TEST_F(SecureNode, KnownClientReadsADevice) {
+  Result r = troupe({"echo", host_, "position2d:0", "--count", "3"}, "laptop", "node.pub");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  size_t lines = 0;
+  for (char ch : r.out) lines += ch == '\n';
+  EXPECT_EQ(lines, 3u) << r.out;
+  EXPECT_NE(r.out.find("pose="), std::string::npos) << r.out;
+  EXPECT_TRUE(logged("secure session with key ")) << node_.err();
+}
+
+TEST_F(SecureNode, UnknownClientKeyIsRefused) {
+  Result r = troupe({"ls", host_}, "stranger", "node.pub");
+  EXPECT_NE(r.err.find("during the secure handshake"), std::string::npos) << r.err;
+  expect_refused(r, "is not among the node's clients");
+}
+
+TEST_F(SecureNode, ClientHoldingAnotherNodeKeyIsRefused) {
+  expect_refused(troupe({"ls", host_}, "laptop", "stranger.pub"), "does not hold this node's public key");
+}
+
+TEST_F(SecureNode, PlainClientIsRefused) {
+  expect_refused(troupe({"ls", host_}, "", ""), "did not open a secure session");
+}
+
+TEST_F(SecureNode, TheKnownNodesFileNamesTheNodesKey) {
+  // The CLI's known-nodes file: $XDG_CONFIG_HOME/troupe/known_nodes.
+  const std::string config_home = dir_ + "/config";
+  ASSERT_EQ(::mkdir(config_home.c_str(), 0700), 0);
+  ASSERT_EQ(::mkdir((config_home + "/troupe").c_str(), 0700), 0);
+  ASSERT_EQ(::setenv("XDG_CONFIG_HOME", config_home.c_str(), 1), 0);
+  Result unknown = troupe({"ls", host_}, "laptop", "");
+  EXPECT_NE(unknown.rc, 0);
+  EXPECT_NE(unknown.err.find("no key known for " + host_), std::string::npos) << unknown.err;
+
+  std::string tag, key;
+  std::ifstream(dir_ + "/node.pub") >> tag >> key;
+  std::ofstream(config_home + "/troupe/known_nodes") << "# nodes this laptop talks to\nother:6665 " << key << "\n"
+                                                      << host_ << " " << key << "\n";
+  Result known = troupe({"ls", host_}, "laptop", "");
+  ::unsetenv("XDG_CONFIG_HOME");
+  EXPECT_EQ(known.rc, 0) << known.err;
+  EXPECT_EQ(known.out, "position2d:0\tkinematic\n");
+}
+
+TEST_F(SecureNode, SecretKeyOthersCanReadIsRefused) {
+  ASSERT_EQ(::chmod((dir_ + "/laptop").c_str(), 0644), 0);
+  Result r = troupe({"ls", host_}, "laptop", "node.pub");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.err.find("chmod 600"), std::string::npos) << r.err;
+}
+
+TEST_F(SecureNode, KeyWithoutClientsDoesNotStart) {
+  const std::string config = dir_ + "/lonely.json";
+  std::ofstream(config) << R"({ "listen": "127.0.0.1", "port": 0, "key": "node",
+  "drivers": [ { "driver_type": "kinematic", "provides": ["position2d:0"] } ] })";
+  Result r = run({kBin + "/troupe-node", config});
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.err.find("\"key\" without \"clients\""), std::string::npos) << r.err;
+}
+
+}  // namespace
