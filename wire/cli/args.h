@@ -30,6 +30,8 @@ struct Help {
 /// `-h`/`--help` anywhere prints the help; options are listed from their
 /// definitions, so each one's text (with its unit) is written once, where it
 /// is added: `app.add_option("--duration", s, "stop after S seconds")->type_name("S")`.
+/// Options put in a group (`->group("hardware in the loop")`) follow under
+/// that heading.
 std::unique_ptr<CLI::App> make_app(const std::string& name, Help help);
 
 /// Parses the arguments after the program's name. Returns -1 when the
@@ -44,10 +46,12 @@ int parse(CLI::App& app, const std::vector<std::string>& args);
 int usage_error(const CLI::App& app, const std::string& message);
 
 /// Checks of a number with one-line messages ("needs a number >= 1, not '0'"):
-/// at least `min`, above it (a duration > 0), at most `max`; combine with &.
+/// at least `min`, above it (a duration > 0), at most `max`, from `min` to
+/// `max` (one message for both bounds); combine with &.
 CLI::Validator at_least(double min);
 CLI::Validator above(double min);
 CLI::Validator at_most(double max);
+CLI::Validator between(double min, double max);
 
 /// `--log-level LEVEL`, one of error, warn, info, debug, into `level`
 /// (left as it is when the option is not given).
