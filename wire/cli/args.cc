@@ -24,7 +24,8 @@ class HouseFormatter : public CLI::FormatterBase {
     };
     std::vector<Row> rows;
     for (const CLI::Option* opt : app->get_options()) {
-      if (!opt->nonpositional() || opt == app->get_help_ptr()) continue;
+      // Hidden options (group "") are not listed.
+      if (!opt->nonpositional() || opt == app->get_help_ptr() || opt->get_group().empty()) continue;
       std::string names;
       for (const std::string& s : opt->get_snames()) names += (names.empty() ? "-" : ", -") + s;
       for (const std::string& l : opt->get_lnames()) names += (names.empty() ? "--" : ", --") + l;

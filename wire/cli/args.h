@@ -31,7 +31,7 @@ struct Help {
 /// definitions, so each one's text (with its unit) is written once, where it
 /// is added: `app.add_option("--duration", s, "stop after S seconds")->type_name("S")`.
 /// Options put in a group (`->group("hardware in the loop")`) follow under
-/// that heading.
+/// that heading; options in group "" are hidden.
 std::unique_ptr<CLI::App> make_app(const std::string& name, Help help);
 
 /// Parses the arguments after the program's name. Returns -1 when the
