@@ -91,7 +91,6 @@ int main(int argc, char** argv) {
   troupe::Node::Options node_options;
   bool hold = false, info = false;
   double max_gap_s = double(replay.max_gap_us) * 1e-6;
-  std::string level;
   auto app = troupe::cli::make_app(
       "troupe play",
       {"troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
@@ -121,11 +120,9 @@ int main(int argc, char** argv) {
       ->type_name("S")
       ->check(troupe::cli::above(0) & troupe::cli::at_most(1e9));
   app->add_flag("--info", info, "print what the file holds and exit");
-  troupe::cli::add_log_level(*app, level);
+  troupe::cli::add_log_level(*app);
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   replay.max_gap_us = uint64_t(max_gap_s * 1e6);
-  troupe::LogLevel log_level{};
-  if (troupe::parse_log_level(level.c_str(), log_level)) troupe::set_log_level(log_level);
 
   std::string error;
   troupe::record::LogSummary summary;

@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
   Settings s;
   std::string target;
   bool print_config = false;
-  std::string time = "auto", level;
+  std::string time = "auto";
   auto app = troupe::cli::make_app(
       "troupe-ros2",
       {"troupe-ros2 HOST[:PORT] [options]",
@@ -169,12 +169,10 @@ int main(int argc, char** argv) {
       ->type_name("auto|sim|wall")
       ->check(CLI::IsMember({"auto", "sim", "wall"}));
   troupe::cli::add_port(*app, "--port", s.local_port, "this node's own Troupe port (default 0: any free port)");
-  troupe::cli::add_log_level(*app, level);
+  troupe::cli::add_log_level(*app);
   app->add_flag("--print-config", print_config, "print the node config (for troupe-node) and exit");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   s.time = time == "auto" ? "Auto" : time == "sim" ? "Sim" : "Wall";  // ros2.fbs TimeSource
-  troupe::LogLevel log_level{};
-  if (troupe::parse_log_level(level.c_str(), log_level)) troupe::set_log_level(log_level);
   troupe::wire::HostPort hp;
   std::string error, host;
   if (!troupe::wire::parse_host(target, hp, error) || !numeric_host(hp.host, host, error)) {

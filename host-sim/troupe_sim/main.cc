@@ -14,9 +14,6 @@ int main(int argc, char** argv) {
   troupe::set_log_program("troupe-sim");
   troupe::sim::SimOptions options;
   if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
-  troupe::LogLevel level{};
-  troupe::parse_log_level(options.log_level.c_str(), level);  // checked while parsing
-  troupe::set_log_level(level);
   std::string error;
 
   // The viewer beside the node (its URL on stdout, like the port: tests

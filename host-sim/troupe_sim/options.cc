@@ -89,7 +89,7 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                 "load anyway; robots whose controller is missing stay idle");
   app->add_flag("--no-ctrl", out.no_ctrl, "run no controllers: every robot waits for clients");
   app->add_flag("--profile", out.profile, "print the time spent in each phase of the step at the end");
-  cli::add_log_level(*app, out.log_level);
+  cli::add_log_level(*app);
 
   const std::string sitl = "hardware in the loop (SITL)";
   app->add_option("--emulate", out.emulate,

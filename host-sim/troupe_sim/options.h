@@ -46,7 +46,6 @@ struct SimOptions {
   /// Run no in-process controllers (the robots are driven over the wire).
   bool no_ctrl = false;
   bool profile = false;  // print the time per phase at the end
-  std::string log_level = "info";
   /// --emulate ROBOT=DEVICE[,DEVICE]: robots presented as hardware on
   /// pseudo-terminals (SITL); see emulation.h.
   std::vector<std::string> emulate;

@@ -1,5 +1,7 @@
 #include "wire/cli/args.h"
 
+#include "wire/log.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -141,8 +143,15 @@ CLI::Validator between(double min, double max) {
       "", "range");
 }
 
-CLI::Option* add_log_level(CLI::App& app, std::string& level) {
-  return app.add_option("--log-level", level, "error, warn, info (default) or debug")
+CLI::Option* add_log_level(CLI::App& app) {
+  return app
+      .add_option_function<std::string>(
+          "--log-level",
+          [](const std::string& text) {
+            LogLevel level{};
+            if (parse_log_level(text.c_str(), level)) set_log_level(level);
+          },
+          "error, warn, info (default) or debug")
       ->type_name("LEVEL")
       ->check(CLI::IsMember({"error", "warn", "info", "debug"}));
 }

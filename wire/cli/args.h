@@ -53,9 +53,9 @@ CLI::Validator above(double min);
 CLI::Validator at_most(double max);
 CLI::Validator between(double min, double max);
 
-/// `--log-level LEVEL`, one of error, warn, info, debug, into `level`
-/// (left as it is when the option is not given).
-CLI::Option* add_log_level(CLI::App& app, std::string& level);
+/// `--log-level LEVEL`, one of error, warn, info, debug: sets the program's
+/// log level (wire/log.h) when given.
+CLI::Option* add_log_level(CLI::App& app);
 
 /// A port number 0..65535 (0: any free port, where the program says so).
 CLI::Option* add_port(CLI::App& app, const std::string& flag, uint16_t& port, const std::string& what);
