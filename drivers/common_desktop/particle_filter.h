@@ -149,8 +149,6 @@ class ParticleFilter {
   /// only records its pose. For an odometry source that restarted (a robot
   /// rebooted), whose new poses have no relation to the old ones.
   void reset_odometry() { has_odom_ = false; }
-  /// Runs the next update() even if the robot has not moved.
-  void force_update() { force_update_ = true; }
 
   /// Particle clusters, heaviest first (computed after each update).
   const std::vector<PoseHypothesis>& hypotheses() const { return hypotheses_; }

@@ -8,7 +8,6 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -24,23 +23,6 @@ namespace {
 using troupe::emulators::odrive::AxisConfig;
 using troupe::emulators::odrive::EmulatorOptions;
 using troupe::emulators::odrive::OdriveEmulator;
-
-bool parse_nodes(const char* text, std::vector<uint8_t>& out) {
-  out.clear();
-  const char* p = text;
-  while (*p) {
-    char* end = nullptr;
-    long v = strtol(p, &end, 10);
-    if (end == p || v < 0 || v > 63) return false;
-    out.push_back(uint8_t(v));
-    p = end;
-    if (*p == ',')
-      ++p;
-    else if (*p)
-      return false;
-  }
-  return !out.empty();
-}
 
 // Reads fault commands from standard input, prints the axes' state now and
 // then, and stops the loop on a signal or when the child exits.
@@ -109,7 +91,6 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
   std::string ifname;
   int descriptor = -1;
-  std::vector<uint8_t> nodes = {0, 1};
   uint32_t watchdog_ms = 500, status_ms = 1000;
   float ramp = 20, wrap = 0, volts = 24;
   double drop = 0;
@@ -118,7 +99,6 @@ int main(int argc, char** argv) {
   int ours = 1;
   while (ours < argc && strcmp(argv[ours], "--") != 0) ++ours;
   char** command = ours + 1 < argc ? argv + ours + 1 : nullptr;
-  std::string nodes_text = "0,1";
   auto app = troupe::cli::make_app(
       "troupe-emulate-odrive",
       {"troupe-emulate-odrive [--can IFACE | --descriptor FD] [options] [-- COMMAND [ARGS...]]",
@@ -136,7 +116,11 @@ int main(int argc, char** argv) {
       ->type_name("FD")
       ->check(troupe::cli::at_least(0))
       ->excludes(can);
-  app->add_option("--nodes", nodes_text, "node ids of the axes (default 0,1)")->type_name("A,B,...");
+  std::vector<unsigned> node_ids = {0, 1};
+  app->add_option("--nodes", node_ids, "node ids of the axes, 0..63 (default 0,1)")
+      ->type_name("A,B,...")
+      ->delimiter(',')
+      ->check(troupe::cli::between(0, 63));
   app->add_option("--watchdog-ms", watchdog_ms, "axis watchdog timeout, ms (default 500; 0 disables)")
       ->type_name("N")
       ->check(troupe::cli::at_least(0));
@@ -161,9 +145,7 @@ int main(int argc, char** argv) {
   if (int(!ifname.empty()) + int(descriptor >= 0) + int(command != nullptr) != 1) {
     return troupe::cli::usage_error(*app, "give exactly one of --can, --descriptor or -- COMMAND");
   }
-  if (!parse_nodes(nodes_text.c_str(), nodes)) {
-    return troupe::cli::usage_error(*app, "--nodes wants node ids 0..63 separated by commas");
-  }
+  const std::vector<uint8_t> nodes(node_ids.begin(), node_ids.end());
 
   // Signals are read through a signalfd in the loop. Blocked before fork so
   // that a child exiting at once is not missed; the child unblocks them.

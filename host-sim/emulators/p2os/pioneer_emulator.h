@@ -109,7 +109,6 @@ class PioneerEmulator final : public SerialEmulator {
 
   void receive(std::span<const uint8_t> payload);
   void obey(std::span<const uint8_t> payload);
-  bool obey_sim(std::span<const uint8_t> payload);
   void unmodelled(uint8_t command);
   void reply(std::span<const uint8_t> payload);
   void send_packet(const drivers::p2os::Packet& packet);
