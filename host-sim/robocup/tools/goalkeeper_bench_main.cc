@@ -1,6 +1,7 @@
 // troupe-goalkeeper-bench: the goalkeeper benchmark (`troupe
 // goalkeeper-bench` through the CLI). Prints the table of goals per shots
-// for every keeper policy and seed. Without --world it uses the standard world (bench/standard_world.cc).
+// for every keeper policy and seed. Without --world it uses the standard
+// world (bench/standard_world.cc).
 #include <cstdio>
 
 #include "host-sim/robocup/bench/goalkeeper_bench.h"

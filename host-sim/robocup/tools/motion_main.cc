@@ -1,7 +1,8 @@
 // troupe-robocup-motion: records motion logs and trains the learned motion
-// model from them (`troupe robocup-motion` through the CLI). record drives the robot ROBOT_FILE defines (`define NAME robocup_robot`, NAME
-// the file's name without extension; its motion plugin) with seeded
-// random commands; a log from a real robot in the same format
+// model from them (`troupe robocup-motion` through the CLI). record drives
+// the robot ROBOT_FILE defines (`define NAME robocup_robot`, NAME the file's
+// name without extension; its motion plugin) with seeded random commands; a
+// log from a real robot in the same format
 // (plugins/learned_motion/motion_model.h) trains just as well. check prints
 // how well a model predicts a log against assuming the velocity stays.
 #include <cmath>
