@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "drivers/replay/replay_driver.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
 #include "wire/cli/args.h"
-#include "drivers/replay/replay_driver.h"
 
 namespace {
 
@@ -92,26 +92,28 @@ int main(int argc, char** argv) {
   bool hold = false, info = false;
   double max_gap_s = double(replay.max_gap_us) * 1e-6;
   auto app = troupe::cli::make_app(
-      "troupe play",
-      {"troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
-       "                        [--max-gap S]\n"
-       "       troupe play FILE --info [--max-gap S]",
-       "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
-       "devices, with their data at the recorded pace and with the timestamps the\n"
-       "recorded node gave it. Clients connect to it as to the node that was\n"
-       "recorded. It ends after the last frame unless --loop or --hold. A truncated\n"
-       "or corrupt file is reported with the byte offset where it goes wrong, and\n"
-       "everything before that offset plays. Where the record times jump (back, or\n"
-       "forward by more than --max-gap) the pause is not kept: the jump is reported\n"
-       "with its byte offset and play goes on at once.\n",
-       {"troupe play run1.trl", "troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0",
-        "troupe play laser.trl --loop --listen 0.0.0.0"}});
+      "troupe play", {"troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
+                      "                        [--max-gap S]\n"
+                      "       troupe play FILE --info [--max-gap S]",
+                      "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
+                      "devices, with their data at the recorded pace and with the timestamps the\n"
+                      "recorded node gave it. Clients connect to it as to the node that was\n"
+                      "recorded. It ends after the last frame unless --loop or --hold. A truncated\n"
+                      "or corrupt file is reported with the byte offset where it goes wrong, and\n"
+                      "everything before that offset plays. Where the record times jump (back, or\n"
+                      "forward by more than --max-gap) the pause is not kept: the jump is reported\n"
+                      "with its byte offset and play goes on at once.\n",
+                      {"troupe play run1.trl",
+                       "troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0",
+                       "troupe play laser.trl --loop --listen 0.0.0.0"}});
   app->add_option("FILE", replay.path, "the log to play")->required();
   app->add_option("--speed", replay.speed, "play X times as fast as recorded (default 1; 0.5: half speed)")
       ->type_name("X")
       ->check(troupe::cli::above(0));
-  troupe::cli::add_port(*app, "--port", node_options.port, "TCP port (default 6665; 0: any free port, printed)");
-  app->add_option("--listen", node_options.listen, "address to listen on (default localhost: 127.0.0.1 and ::1)")
+  troupe::cli::add_port(*app, "--port", node_options.port,
+                        "TCP port (default 6665; 0: any free port, printed)");
+  app->add_option("--listen", node_options.listen,
+                  "address to listen on (default localhost: 127.0.0.1 and ::1)")
       ->type_name("ADDR");
   app->add_flag("--loop", replay.loop, "start over after the last frame");
   app->add_flag("--wait", replay.wait_for_readers, "hold the start until every recorded device has a reader");

@@ -168,7 +168,8 @@ int main(int argc, char** argv) {
                   "time when HOST is a simulator; sim keeps the devices' stamps)")
       ->type_name("auto|sim|wall")
       ->check(CLI::IsMember({"auto", "sim", "wall"}));
-  troupe::cli::add_port(*app, "--port", s.local_port, "this node's own Troupe port (default 0: any free port)");
+  troupe::cli::add_port(*app, "--port", s.local_port,
+                        "this node's own Troupe port (default 0: any free port)");
   troupe::cli::add_log_level(*app);
   app->add_flag("--print-config", print_config, "print the node config (for troupe-node) and exit");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;

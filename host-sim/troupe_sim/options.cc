@@ -66,9 +66,9 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                              "browser viewer on HTTP port P (default 6680; 0: any free\n"
                              "port); on by default, its URL is printed")
                    ->type_name("[P]");
-  auto* view_listen = app->add_option("--view-listen", out.view_listen,
-                                      "address the viewer listens on (default 127.0.0.1)")
-                          ->type_name("ADDR");
+  auto* view_listen =
+      app->add_option("--view-listen", out.view_listen, "address the viewer listens on (default 127.0.0.1)")
+          ->type_name("ADDR");
   app->add_option("--view-allow-origin", out.view_allow_origins,
                   "also accept the viewer's WebSocket from pages of origin O\n"
                   "(http://host:port; repeatable); by default only the page\n"
@@ -100,10 +100,12 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                   "(repeatable, one per robot)")
       ->type_name("ROBOT=DEVS")
       ->group(sitl);
-  app->add_option("--emulate-info", out.emulate_info, "also write those lines to FILE (complete when it appears)")
+  app->add_option("--emulate-info", out.emulate_info,
+                  "also write those lines to FILE (complete when it appears)")
       ->type_name("FILE")
       ->group(sitl);
-  app->add_option("--emulate-links", out.emulate_links, "also name each device DIR/ROBOT-DEVICE (a symbolic link)")
+  app->add_option("--emulate-links", out.emulate_links,
+                  "also name each device DIR/ROBOT-DEVICE (a symbolic link)")
       ->type_name("DIR")
       ->group(sitl);
   auto* p2os_tcp = app->add_option("--p2os-tcp", out.p2os_tcp_port,

@@ -128,7 +128,9 @@ int main(int argc, char** argv) {
                     "measuring that room from the base's odometry.\n",
                     {"room_node --port 0 --size 8 --pillar 2 -1 0.4"}});
   troupe::cli::add_port(*app, "--port", port, "TCP port (0: any free port, printed)");
-  app->add_option("--size", size, "the room's side, m (default 6)")->type_name("M")->check(troupe::cli::above(1));
+  app->add_option("--size", size, "the room's side, m (default 6)")
+      ->type_name("M")
+      ->check(troupe::cli::above(1));
   app->add_option("--pillar", pillar_xyh, "the pillar's centre and half side, m (default 1.5 0 0.3)")
       ->type_name("X Y HALF")
       ->expected(3);

@@ -1,12 +1,12 @@
 #include "wire/cli/args.h"
 
-#include "wire/log.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <utility>
+
+#include "wire/log.h"
 
 namespace troupe::cli {
 namespace {
@@ -137,8 +137,9 @@ CLI::Validator between(double min, double max) {
       [min, max](std::string& text) -> std::string {
         double v = 0;
         bool ok = CLI::detail::lexical_cast(text, v) && std::isfinite(v) && v >= min && v <= max;
-        return ok ? "" : "needs a number from " + CLI::detail::to_string(min) + " to " + CLI::detail::to_string(max) +
-                             ", not '" + text + "'";
+        return ok ? ""
+                  : "needs a number from " + CLI::detail::to_string(min) + " to " +
+                        CLI::detail::to_string(max) + ", not '" + text + "'";
       },
       "", "range");
 }

@@ -130,7 +130,9 @@ int main(int argc, char** argv) {
   app->add_option("--wrap-turns", wrap, "report positions within [0, T) (default 0: linear)")
       ->type_name("T")
       ->check(troupe::cli::at_least(0));
-  app->add_option("--volts", volts, "supply voltage, V (default 24)")->type_name("V")->check(troupe::cli::above(0));
+  app->add_option("--volts", volts, "supply voltage, V (default 24)")
+      ->type_name("V")
+      ->check(troupe::cli::above(0));
   app->add_option("--drop", drop, "drop each frame with probability P (default 0)")
       ->type_name("P")
       ->check(troupe::cli::between(0, 1));

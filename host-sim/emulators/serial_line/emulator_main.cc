@@ -43,10 +43,10 @@ CLI::Validator one_of(const std::vector<uint32_t>& bauds) {
 int emulator_main(int argc, char** argv, const EmulatorProgram& program) {
   EmulatorOptions options;
   options.baud = program.bauds.front();
-  auto app = cli::make_app(program.name, {std::string(program.name) + " [--link PATH] [--baud N] " +
-                                              program.synopsis +
-                                              "\n       [--flip P] [--drop P] [--tear P] [--seed N] [--no-baud-check]",
-                                          program.about, program.examples});
+  auto app = cli::make_app(program.name,
+                           {std::string(program.name) + " [--link PATH] [--baud N] " + program.synopsis +
+                                "\n       [--flip P] [--drop P] [--tear P] [--seed N] [--no-baud-check]",
+                            program.about, program.examples});
   app->add_option("--link", options.link, "also make PATH a symbolic link to the port")->type_name("PATH");
   app->add_option("--baud", options.baud,
                   "the device's line speed at power-up, bit/s: " + list(program.bauds) + " (default " +

@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
       ->type_name("A,B,...")
       ->delimiter(',')
       ->check(troupe::cli::at_least(0));
-  app->add_option("--policies", s.policies, "keeper policies (default none,random,pattern,block,intercept,mixed)")
+  app->add_option("--policies", s.policies,
+                  "keeper policies (default none,random,pattern,block,intercept,mixed)")
       ->type_name("A,B,...")
       ->delimiter(',');
   app->add_option("--keeper", s.keeper_robot, "the keeper's robot name in the world (default keeper)")
@@ -57,23 +58,28 @@ int main(int argc, char** argv) {
   app->add_option("--striker-plugin", s.striker_plugin, "the striker's player plugin (default striker)")
       ->type_name("NAME");
   std::vector<std::string> keeper_options, striker_options;
-  app->add_option("--keeper-option", keeper_options, "one more keeper plugin option (repeatable)")->type_name("K=V");
+  app->add_option("--keeper-option", keeper_options, "one more keeper plugin option (repeatable)")
+      ->type_name("K=V");
   app->add_option("--striker-option", striker_options, "one more striker plugin option (repeatable)")
       ->type_name("K=V");
-  app->add_option("--plugin-path", s.plugin_path, "look for plugins in DIR first (repeatable)")->type_name("DIR");
+  app->add_option("--plugin-path", s.plugin_path, "look for plugins in DIR first (repeatable)")
+      ->type_name("DIR");
   app->add_option("--timeout", s.shot_timeout_s, "a shot not decided by then is over, s (default 6)")
       ->type_name("S")
       ->check(troupe::cli::above(0));
   app->add_flag("--quiet", quiet, "no progress on stderr");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
-  for (auto [texts, options] : {std::pair{&keeper_options, &s.keeper_options}, {&striker_options, &s.striker_options}}) {
+  for (auto [texts, options] :
+       {std::pair{&keeper_options, &s.keeper_options}, {&striker_options, &s.striker_options}}) {
     for (const std::string& text : *texts) {
       std::pair<std::string, std::string> kv;
-      if (!key_value(text, kv)) return troupe::cli::usage_error(*app, "a plugin option is KEY=VALUE, not '" + text + "'");
+      if (!key_value(text, kv))
+        return troupe::cli::usage_error(*app, "a plugin option is KEY=VALUE, not '" + text + "'");
       options->push_back(kv);
     }
   }
-  if (s.seeds.empty() || s.policies.empty()) return troupe::cli::usage_error(*app, "--seeds and --policies need a value");
+  if (s.seeds.empty() || s.policies.empty())
+    return troupe::cli::usage_error(*app, "--seeds and --policies need a value");
 
   WorldSpec world;
   std::string error;

@@ -119,13 +119,16 @@ int main(int argc, char** argv) {
   auto* seed = app->add_option("--seed", settings.seed, "seed of the commands and pushes (default 1)")
                    ->type_name("N")
                    ->check(troupe::cli::at_least(0));
-  auto* out = app->add_option("--out", out_file, "where the log (record) or the model (fit) goes")->type_name("FILE");
+  auto* out =
+      app->add_option("--out", out_file, "where the log (record) or the model (fit) goes")->type_name("FILE");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   if (command == "help") {
     fputs(app->help().c_str(), stdout);
     return 0;
   }
-  auto mistake = [&](const std::string& what) { return troupe::cli::usage_error(*app, command + ": " + what); };
+  auto mistake = [&](const std::string& what) {
+    return troupe::cli::usage_error(*app, command + ": " + what);
+  };
   const bool record_options = seconds->count() > 0 || seed->count() > 0;
   if (command == "record") {
     if (files.size() != 1) return mistake("needs one ROBOT_FILE");

@@ -71,20 +71,25 @@ int main(int argc, char** argv) {
   app->add_option("--seconds", seconds, "simulated time to run, s (default: the referee's duration, else 60)")
       ->type_name("S")
       ->check(troupe::cli::at_least(0));
-  auto* seed_given = app->add_option("--seed", seed, "seed of every random number in the run (default: the world's)")
-                         ->type_name("N")
-                         ->check(troupe::cli::at_least(0));
-  app->add_option("--script", script, "run console commands from FILE (run 10, start ROBOT PLUGIN, score, ...)")
+  auto* seed_given =
+      app->add_option("--seed", seed, "seed of every random number in the run (default: the world's)")
+          ->type_name("N")
+          ->check(troupe::cli::at_least(0));
+  app->add_option("--script", script,
+                  "run console commands from FILE (run 10, start ROBOT PLUGIN, score, ...)")
       ->type_name("FILE");
   app->add_flag("--interactive", interactive, "run console commands typed on standard input");
-  app->add_option("--plugin-path", plugin_path, "look for plugins in folder D first (repeatable)")->type_name("D");
+  app->add_option("--plugin-path", plugin_path, "look for plugins in folder D first (repeatable)")
+      ->type_name("D");
   app->add_flag("--profile", profile, "print the mean time per cycle of each phase at the end");
   app->add_flag("--quiet", quiet, "no event lines, only the final score");
   // Serving a match is troupe-sim's: --serve (hidden) answers with the command that does it.
   bool serve = false;
   app->add_flag("--serve", serve)->group("");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
-  if (serve) return troupe::cli::usage_error(*app, "to serve a match, run it with troupe-sim: troupe-sim " + world_file);
+  if (serve)
+    return troupe::cli::usage_error(*app,
+                                    "to serve a match, run it with troupe-sim: troupe-sim " + world_file);
   WorldSpec spec;
   std::string error;
   if (!load_world_file(world_file, spec, error)) {

@@ -231,11 +231,13 @@ void cave_table(int seeds) {
 
 int main(int argc, char** argv) {
   int seeds = 5;
-  auto app = troupe::cli::make_app("bench_mcl_accuracy",
-                                   {"bench_mcl_accuracy [--seeds N]",
-                                    "MCL accuracy tables: the ACES log, and the cave world.\n",
-                                    {"bench_mcl_accuracy --seeds 3"}});
-  app->add_option("--seeds", seeds, "runs per table, seeds 1..N (default 5)")->type_name("N")->check(troupe::cli::at_least(1));
+  auto app =
+      troupe::cli::make_app("bench_mcl_accuracy", {"bench_mcl_accuracy [--seeds N]",
+                                                   "MCL accuracy tables: the ACES log, and the cave world.\n",
+                                                   {"bench_mcl_accuracy --seeds 3"}});
+  app->add_option("--seeds", seeds, "runs per table, seeds 1..N (default 5)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   aces_table(seeds);
   cave_table(seeds);

@@ -220,24 +220,30 @@ void table(const Scene& scene, int seeds, double seconds) {
 int main(int argc, char** argv) {
   int seeds = 5;
   double seconds = 120;
-  auto app = troupe::cli::make_app(
-      "bench_mcl_sim",
-      {"bench_mcl_sim [--seeds N] [--seconds S] [--odom-error E] [--motion-noise A] [--sigma-hit M] [--surface-field]",
-       "MCL accuracy on troupe-sim's engine (laser, odometry error, wander\n"
-       "controller): tables for the Stage cave and the office world.\n",
-       {"bench_mcl_sim --seeds 3 --seconds 60"}});
-  app->add_option("--seeds", seeds, "runs per world, seeds 1..N (default 5)")->type_name("N")->check(troupe::cli::at_least(1));
+  auto app = troupe::cli::make_app("bench_mcl_sim",
+                                   {"bench_mcl_sim [--seeds N] [--seconds S] [--odom-error E] "
+                                    "[--motion-noise A] [--sigma-hit M] [--surface-field]",
+                                    "MCL accuracy on troupe-sim's engine (laser, odometry error, wander\n"
+                                    "controller): tables for the Stage cave and the office world.\n",
+                                    {"bench_mcl_sim --seeds 3 --seconds 60"}});
+  app->add_option("--seeds", seeds, "runs per world, seeds 1..N (default 5)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
   app->add_option("--seconds", seconds, "simulated time per run, s (default 120)")
       ->type_name("S")
       ->check(troupe::cli::at_least(1));
   app->add_option("--odom-error", odom_error, "the robots' odom_error, each axis (default 0.05)")
       ->type_name("E")
       ->check(troupe::cli::at_least(0));
-  app->add_option("--motion-noise", motion_noise, "all four alphas of the filter's motion noise (default: the driver's)")
+  app->add_option("--motion-noise", motion_noise,
+                  "all four alphas of the filter's motion noise (default: the driver's)")
       ->type_name("A")
       ->check(troupe::cli::at_least(0));
-  app->add_option("--sigma-hit", sigma_hit, "the filter's sigma_hit, m (default: the driver's)")->type_name("M")->check(troupe::cli::above(0));
-  app->add_flag("--surface-field", surface_field, "the filter's surface likelihood field instead of the classic one");
+  app->add_option("--sigma-hit", sigma_hit, "the filter's sigma_hit, m (default: the driver's)")
+      ->type_name("M")
+      ->check(troupe::cli::above(0));
+  app->add_flag("--surface-field", surface_field,
+                "the filter's surface likelihood field instead of the classic one");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   std::error_code ec;
   std::string dir = (std::filesystem::temp_directory_path(ec) / "bench-mcl-sim-XXXXXX").string();

@@ -54,10 +54,10 @@ double time_update(const OccupancyGrid& map, size_t particles, size_t beams, int
 
 int main(int argc, char** argv) {
   int repeats = 21;
-  auto app = troupe::cli::make_app("bench_mcl_update",
-                                   {"bench_mcl_update [--repeats N]",
-                                    "MCL update time per scan, particles x beams (medians).\n",
-                                    {"bench_mcl_update --repeats 5"}});
+  auto app =
+      troupe::cli::make_app("bench_mcl_update", {"bench_mcl_update [--repeats N]",
+                                                 "MCL update time per scan, particles x beams (medians).\n",
+                                                 {"bench_mcl_update --repeats 5"}});
   app->add_option("--repeats", repeats, "timed updates per cell; the median is reported (default 21)")
       ->type_name("N")
       ->check(troupe::cli::at_least(1));

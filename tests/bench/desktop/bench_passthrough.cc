@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "tests/support/child_process.h"
-#include "wire/client/client.h"
 #include "wire/cli/args.h"
+#include "wire/client/client.h"
 
 using namespace troupe;
 

@@ -22,8 +22,8 @@
 #include "tests/ros2/dds_env.h"
 #include "tests/ros2/fastdds_peer.h"
 #include "tests/support/child_process.h"
-#include "wire/client/client.h"
 #include "wire/cli/args.h"
+#include "wire/client/client.h"
 
 namespace {
 
@@ -77,14 +77,17 @@ int main(int argc, char** argv) {
   double seconds = 10, rate = 100;
   int repeats = 3;
   auto app = troupe::cli::make_app(
-      "bench_ros2_latency",
-      {"bench_ros2_latency [--seconds S] [--repeats N] [--rate HZ]",
-       "What troupe-ros2 adds to a sample's way, against a Troupe client reading\n"
-       "the same samples; medians over the repeats.\n",
-       {"bench_ros2_latency --seconds 5 --repeats 3"}});
-  app->add_option("--seconds", seconds, "length of one run, s (default 10)")->type_name("S")->check(troupe::cli::above(0));
+      "bench_ros2_latency", {"bench_ros2_latency [--seconds S] [--repeats N] [--rate HZ]",
+                             "What troupe-ros2 adds to a sample's way, against a Troupe client reading\n"
+                             "the same samples; medians over the repeats.\n",
+                             {"bench_ros2_latency --seconds 5 --repeats 3"}});
+  app->add_option("--seconds", seconds, "length of one run, s (default 10)")
+      ->type_name("S")
+      ->check(troupe::cli::above(0));
   app->add_option("--repeats", repeats, "runs (default 3)")->type_name("N")->check(troupe::cli::at_least(1));
-  app->add_option("--rate", rate, "the odometry's rate, Hz (default 100)")->type_name("HZ")->check(troupe::cli::above(0));
+  app->add_option("--rate", rate, "the odometry's rate, Hz (default 100)")
+      ->type_name("HZ")
+      ->check(troupe::cli::above(0));
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   testing::ros2::DdsDomain domain;
   const std::string dir = testing::make_temp_dir("bench-ros2-latency");

@@ -21,8 +21,8 @@
 #include "tests/ros2/dds_env.h"
 #include "tests/ros2/fastdds_peer.h"
 #include "tests/support/child_process.h"
-#include "wire/client/client.h"
 #include "wire/cli/args.h"
+#include "wire/client/client.h"
 
 namespace {
 
@@ -120,14 +120,19 @@ int main(int argc, char** argv) {
   int robots = 100, beams = 181, repeats = 3;
   double seconds = 10;
   auto app = troupe::cli::make_app(
-      "bench_ros2_swarm",
-      {"bench_ros2_swarm [--robots N] [--beams N] [--seconds S] [--repeats N]",
-       "troupe-ros2's CPU for a swarm (scans at 10 Hz, odometry at 20 Hz), against a\n"
-       "passthrough alone; medians over the repeats.\n",
-       {"bench_ros2_swarm --robots 50 --seconds 5"}});
-  app->add_option("--robots", robots, "robots in the swarm (default 100)")->type_name("N")->check(troupe::cli::at_least(1));
-  app->add_option("--beams", beams, "beams per scan (default 181)")->type_name("N")->check(troupe::cli::at_least(2));
-  app->add_option("--seconds", seconds, "length of one run, s (default 10)")->type_name("S")->check(troupe::cli::above(0));
+      "bench_ros2_swarm", {"bench_ros2_swarm [--robots N] [--beams N] [--seconds S] [--repeats N]",
+                           "troupe-ros2's CPU for a swarm (scans at 10 Hz, odometry at 20 Hz), against a\n"
+                           "passthrough alone; medians over the repeats.\n",
+                           {"bench_ros2_swarm --robots 50 --seconds 5"}});
+  app->add_option("--robots", robots, "robots in the swarm (default 100)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
+  app->add_option("--beams", beams, "beams per scan (default 181)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(2));
+  app->add_option("--seconds", seconds, "length of one run, s (default 10)")
+      ->type_name("S")
+      ->check(troupe::cli::above(0));
   app->add_option("--repeats", repeats, "runs (default 3)")->type_name("N")->check(troupe::cli::at_least(1));
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   testing::ros2::DdsDomain domain;
