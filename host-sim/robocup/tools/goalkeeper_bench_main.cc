@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   app->add_flag("--quiet", quiet, "no progress on stderr");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   for (auto [texts, options] :
-       {std::pair{&keeper_options, &s.keeper_options}, {&striker_options, &s.striker_options}}) {
+       {std::pair{&keeper_options, &s.keeper_options}, std::pair{&striker_options, &s.striker_options}}) {
     for (const std::string& text : *texts) {
       std::pair<std::string, std::string> kv;
       if (!key_value(text, kv))
