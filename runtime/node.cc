@@ -68,7 +68,6 @@ bool Node::start(std::string& error) {
 
 uint16_t Node::port() const { return server_->port(); }
 std::string Node::listen_text() const { return server_->listen_text(); }
-size_t Node::client_count() const { return server_->client_count(); }
 
 void Node::poll(int64_t max_wait_us) {
   loop_.run_once(max_wait_us);

@@ -92,7 +92,6 @@ class Node final : public TimerHandler {
   uint16_t port() const;
   /// What it listens on: "127.0.0.1:6665 and [::1]:6665" for localhost.
   std::string listen_text() const;
-  size_t client_count() const;
   const Options& options() const { return options_; }
 
   // ---- For drivers ----------------------------------------------------------

@@ -223,12 +223,6 @@ bool Server::start(std::string& error) {
   return true;
 }
 
-size_t Server::client_count() const {
-  size_t n = 0;
-  for (const Client& c : clients_) n += c.state == State::Open;
-  return n;
-}
-
 bool Server::alive(uint32_t client, uint32_t generation) const {
   return client < clients_.size() && clients_[client].state == State::Open &&
          clients_[client].generation == generation;

@@ -42,7 +42,6 @@ class Server final : public FdHandler, public TimerHandler {
   uint16_t port() const { return port_; }
   /// "127.0.0.1:6665", or "127.0.0.1:6665 and [::1]:6665" for localhost.
   std::string listen_text() const;
-  size_t client_count() const;
 
   bool alive(uint32_t client, uint32_t generation) const;
   uint32_t generation(uint32_t client) const { return clients_[client].generation; }

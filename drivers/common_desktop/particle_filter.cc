@@ -290,7 +290,6 @@ void ParticleFilter::resample(Rng& rng) {
   }
   double w = 1.0 / double(scratch_.size());
   for (Particle& p : scratch_) p.weight = w;
-  random_share_ = double(randoms) / double(scratch_.size());
   particles_.swap(scratch_);
 }
 

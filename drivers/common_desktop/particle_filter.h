@@ -149,8 +149,6 @@ class ParticleFilter {
   /// only records its pose. For an odometry source that restarted (a robot
   /// rebooted), whose new poses have no relation to the old ones.
   void reset_odometry() { has_odom_ = false; }
-  /// Runs the next update() even if the robot has not moved.
-  void force_update() { force_update_ = true; }
 
   /// Particle clusters, heaviest first (computed after each update).
   const std::vector<PoseHypothesis>& hypotheses() const { return hypotheses_; }
@@ -160,13 +158,10 @@ class ParticleFilter {
   const OccupancyGrid& map() const { return *map_; }
   const LikelihoodField& field() const { return field_; }
   const MclParams& params() const { return params_; }
-  bool initialized() const { return !particles_.empty(); }
 
-  /// Short- and long-term average per-beam likelihood (1/m), and the share
-  /// of injected (recovery) particles in the last resampling.
+  /// Short- and long-term average per-beam likelihood (1/m).
   double w_slow() const { return w_slow_; }
   double w_fast() const { return w_fast_; }
-  double random_share() const { return random_share_; }
   /// The filter's own verdict after the last measurement update: the scans
   /// fit its belief much worse than they used to (w_fast < lost_ratio *
   /// w_slow), so it is recovering. A new initialisation clears it.
@@ -216,7 +211,6 @@ class ParticleFilter {
   Pose2 moved_since_update_;  // accumulated |d|, |a| since the last update
   bool force_update_ = true;
   double w_slow_ = 0, w_fast_ = 0;
-  double random_share_ = 0;
   bool lost_ = false;
   // Recovery poses for the next resampling, best first, and their scores.
   std::vector<Pose2> candidates_;

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
       ->check(troupe::cli::above(0) & troupe::cli::at_most(1e6));
   app->add_option("--margin", opt.margin, "border around the outermost endpoint, m (default 1)")
       ->type_name("M")
-      ->check(troupe::cli::at_least(0) & troupe::cli::at_most(1e6));
+      ->check(troupe::cli::between(0, 1e6));
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   troupe::desktop::CarmenLog log;
   std::string error;

@@ -2,59 +2,24 @@
 #include <signal.h>
 #include <sys/epoll.h>
 
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "drivers/replay/replay_driver.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
-#include "drivers/replay/replay_driver.h"
+#include "wire/cli/args.h"
 
 namespace {
-
-const char kUsage[] =
-    "usage: troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
-    "                        [--max-gap S]\n"
-    "       troupe play FILE --info [--max-gap S]\n"
-    "\n"
-    "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
-    "devices, with their data at the recorded pace and with the timestamps the\n"
-    "recorded node gave it. Clients connect to it as to the node that was\n"
-    "recorded. It ends after the last frame unless --loop or --hold. A truncated\n"
-    "or corrupt file is reported with the byte offset where it goes wrong, and\n"
-    "everything before that offset plays. Where the record times jump (back, or\n"
-    "forward by more than --max-gap) the pause is not kept: the jump is reported\n"
-    "with its byte offset and play goes on at once.\n"
-    "\n"
-    "  --speed X      play X times as fast as recorded (default 1; 0.5: half speed)\n"
-    "  --port P       TCP port (default 6665; 0: any free port, printed)\n"
-    "  --listen ADDR  address to listen on (default localhost: 127.0.0.1 and ::1)\n"
-    "  --loop         start over after the last frame\n"
-    "  --wait         hold the start until every recorded device has a reader\n"
-    "  --hold         keep serving after the last frame, until Ctrl-C\n"
-    "  --max-gap S    longest pause between two frames that is kept, s (default 60)\n"
-    "  --info         print what the file holds and exit\n"
-    "  --log-level LEVEL  error, warn, info (default) or debug\n"
-    "\n"
-    "examples:\n"
-    "  troupe play run1.trl\n"
-    "  troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0\n"
-    "  troupe play laser.trl --loop --listen 0.0.0.0\n";
 
 // After the last frame, the node serves this long more so that clients
 // receive what is still queued for them, us.
 constexpr uint64_t kDrainUs = 500000;
-
-int usage_error(const std::string& message) {
-  fprintf(stderr, "troupe play: %s (see: troupe play --help)\n", message.c_str());
-  return 2;
-}
 
 class StopWatch final : public troupe::FdHandler {
  public:
@@ -125,59 +90,41 @@ int main(int argc, char** argv) {
   troupe::drivers::replay::ReplayDriver::Options replay;
   troupe::Node::Options node_options;
   bool hold = false, info = false;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    auto value = [&](const char*& out) {
-      if (i + 1 >= argc) return false;
-      out = argv[++i];
-      return true;
-    };
-    const char* v = nullptr;
-    if (a == "-h" || a == "--help") {
-      fputs(kUsage, stdout);
-      return 0;
-    } else if (a == "--speed") {
-      char* end = nullptr;
-      if (!value(v) || (replay.speed = strtod(v, &end), *end != '\0') || !std::isfinite(replay.speed) ||
-          replay.speed <= 0) {
-        return usage_error("--speed needs a number > 0");
-      }
-    } else if (a == "--max-gap") {
-      char* end = nullptr;
-      double gap = 0;
-      if (!value(v) || (gap = strtod(v, &end), *end != '\0') || !(gap > 0) || gap > 1e9)
-        return usage_error("--max-gap needs seconds > 0");
-      replay.max_gap_us = uint64_t(gap * 1e6);
-    } else if (a == "--port") {
-      char* end = nullptr;
-      long p = value(v) ? strtol(v, &end, 10) : -1;
-      if (v == nullptr || *end != '\0' || p < 0 || p > 65535) return usage_error("--port needs 0..65535");
-      node_options.port = uint16_t(p);
-    } else if (a == "--listen") {
-      if (!value(v)) return usage_error("--listen needs an address");
-      node_options.listen = v;
-    } else if (a == "--loop") {
-      replay.loop = true;
-    } else if (a == "--wait") {
-      replay.wait_for_readers = true;
-    } else if (a == "--hold") {
-      hold = true;
-    } else if (a == "--info") {
-      info = true;
-    } else if (a == "--log-level") {
-      troupe::LogLevel level{};
-      if (!value(v) || !troupe::parse_log_level(v, level))
-        return usage_error("--log-level needs error, warn, info or debug");
-      troupe::set_log_level(level);
-    } else if (a.size() > 1 && a[0] == '-') {
-      return usage_error("unknown option '" + a + "'");
-    } else if (replay.path.empty()) {
-      replay.path = a;
-    } else {
-      return usage_error("unexpected argument '" + a + "'");
-    }
-  }
-  if (replay.path.empty()) return usage_error("missing FILE");
+  double max_gap_s = double(replay.max_gap_us) * 1e-6;
+  auto app = troupe::cli::make_app(
+      "troupe play", {"troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
+                      "                        [--max-gap S]\n"
+                      "       troupe play FILE --info [--max-gap S]",
+                      "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
+                      "devices, with their data at the recorded pace and with the timestamps the\n"
+                      "recorded node gave it. Clients connect to it as to the node that was\n"
+                      "recorded. It ends after the last frame unless --loop or --hold. A truncated\n"
+                      "or corrupt file is reported with the byte offset where it goes wrong, and\n"
+                      "everything before that offset plays. Where the record times jump (back, or\n"
+                      "forward by more than --max-gap) the pause is not kept: the jump is reported\n"
+                      "with its byte offset and play goes on at once.\n",
+                      {"troupe play run1.trl",
+                       "troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0",
+                       "troupe play laser.trl --loop --listen 0.0.0.0"}});
+  app->add_option("FILE", replay.path, "the log to play")->required();
+  app->add_option("--speed", replay.speed, "play X times as fast as recorded (default 1; 0.5: half speed)")
+      ->type_name("X")
+      ->check(troupe::cli::above(0));
+  troupe::cli::add_port(*app, "--port", node_options.port,
+                        "TCP port (default 6665; 0: any free port, printed)");
+  app->add_option("--listen", node_options.listen,
+                  "address to listen on (default localhost: 127.0.0.1 and ::1)")
+      ->type_name("ADDR");
+  app->add_flag("--loop", replay.loop, "start over after the last frame");
+  app->add_flag("--wait", replay.wait_for_readers, "hold the start until every recorded device has a reader");
+  app->add_flag("--hold", hold, "keep serving after the last frame, until Ctrl-C");
+  app->add_option("--max-gap", max_gap_s, "longest pause between two frames that is kept, s (default 60)")
+      ->type_name("S")
+      ->check(troupe::cli::above(0) & troupe::cli::at_most(1e9));
+  app->add_flag("--info", info, "print what the file holds and exit");
+  troupe::cli::add_log_level(*app);
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  replay.max_gap_us = uint64_t(max_gap_s * 1e6);
 
   std::string error;
   troupe::record::LogSummary summary;

@@ -18,36 +18,10 @@
 #include "runtime/node_config.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
+#include "wire/cli/args.h"
 #include "wire/client/client.h"
 
 namespace {
-
-const char kUsage[] =
-    "usage: troupe-ros2 HOST[:PORT] [options]\n"
-    "\n"
-    "Publishes every device of the node or simulator at HOST[:PORT] (default port\n"
-    "6665) as ROS 2 topics over DDS (Cyclone DDS; no ROS installation needed), one\n"
-    "namespace per robot (/r0/odom, /r0/scan, ...), and takes cmd_vel and\n"
-    "initialpose back. ROS 2 tools see it as the node /troupe_bridge.\n"
-    "\n"
-    "options:\n"
-    "  --domain N          DDS domain (default: ROS_DOMAIN_ID, else 0)\n"
-    "  --node-name NAME    the ROS 2 node name (default troupe_bridge)\n"
-    "  --max-linear V      cmd_vel speed limit, m/s (default 1.5)\n"
-    "  --max-angular W     cmd_vel turn rate limit, rad/s (default 3.0)\n"
-    "  --time auto|sim|wall  the ROS clock of the stamps (default auto: simulated\n"
-    "                      time when HOST is a simulator; sim keeps the devices' stamps)\n"
-    "  --port P            this node's own Troupe port (default 0: any free port)\n"
-    "  --log-level LEVEL   error, warn, info (default) or debug\n"
-    "  --print-config      print the node config (for troupe-node) and exit\n"
-    "\n"
-    "DDS discovery uses multicast; where there is none (a loopback-only host),\n"
-    "name the peers in CYCLONEDDS_URI (see drivers/ros2/README.md).\n"
-    "\n"
-    "examples:\n"
-    "  troupe ros2 localhost                       # e.g. troupe-sim examples/worlds/swarm100.world\n"
-    "  troupe ros2 192.168.1.20:6665 --domain 7\n"
-    "  troupe ros2 localhost --print-config > bridge.json    # then: troupe-node bridge.json\n";
 
 // Interfaces the ros2 driver has a ROS 2 message for.
 bool bridgeable(uint16_t iface) {
@@ -150,12 +124,6 @@ std::string make_config(const Settings& s, const std::string& host,
          ",\n      \"provides\": [\"opaque:" + std::to_string(free_opaque + 1) + "\"]\n    }\n  ]\n}\n";
 }
 
-bool number(const char* text, double lo, double hi, double& out) {
-  char* end = nullptr;
-  out = std::strtod(text, &end);
-  return end != text && *end == '\0' && out >= lo && out <= hi;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -164,62 +132,52 @@ int main(int argc, char** argv) {
   Settings s;
   std::string target;
   bool print_config = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    double v = 0;
-    if (a == "-h" || a == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (a == "--print-config") {
-      print_config = true;
-    } else if (a == "--domain" && has_value && number(argv[i + 1], 0, 232, v)) {
-      s.domain = int(v);
-      ++i;
-    } else if (a == "--node-name" && has_value && troupe::drivers::ros2::valid_ros_token(argv[i + 1])) {
-      s.node_name = argv[++i];
-    } else if (a == "--max-linear" && has_value && number(argv[i + 1], 0, 1e3, v)) {
-      s.max_linear = v;
-      ++i;
-    } else if (a == "--max-angular" && has_value && number(argv[i + 1], 0, 1e3, v)) {
-      s.max_angular = v;
-      ++i;
-    } else if (a == "--time" && has_value) {
-      const std::string t = argv[++i];
-      if (t != "auto" && t != "sim" && t != "wall") {
-        std::fprintf(stderr, "troupe-ros2: --time is auto, sim or wall, not %s\n", t.c_str());
-        return 2;
-      }
-      s.time = t == "auto" ? "Auto" : t == "sim" ? "Sim" : "Wall";
-    } else if (a == "--port" && has_value && number(argv[i + 1], 0, 65535, v)) {
-      s.local_port = uint16_t(v);
-      ++i;
-    } else if (a == "--log-level" && has_value) {
-      troupe::LogLevel level{};
-      if (!troupe::parse_log_level(argv[++i], level)) {
-        std::fprintf(stderr, "troupe-ros2: bad log level '%s'\n", argv[i]);
-        return 2;
-      }
-      troupe::set_log_level(level);
-    } else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "troupe-ros2: bad option, value or missing value: %s\n\n%s", a.c_str(), kUsage);
-      return 2;
-    } else if (target.empty()) {
-      target = a;
-    } else {
-      std::fprintf(stderr, "troupe-ros2: one node only; also got %s\n", a.c_str());
-      return 2;
-    }
-  }
-  if (target.empty()) {
-    std::fprintf(stderr, "troupe-ros2: which node? (HOST[:PORT])\n\n%s", kUsage);
-    return 2;
-  }
+  std::string time = "auto";
+  auto app = troupe::cli::make_app(
+      "troupe-ros2",
+      {"troupe-ros2 HOST[:PORT] [options]",
+       "Publishes every device of the node or simulator at HOST[:PORT] (default port\n"
+       "6665) as ROS 2 topics over DDS (Cyclone DDS; no ROS installation needed), one\n"
+       "namespace per robot (/r0/odom, /r0/scan, ...), and takes cmd_vel and\n"
+       "initialpose back. ROS 2 tools see it as the node /troupe_bridge.\n"
+       "\n"
+       "DDS discovery uses multicast; where there is none (a loopback-only host),\n"
+       "name the peers in CYCLONEDDS_URI (see drivers/ros2/README.md).\n",
+       {"troupe ros2 localhost                       # e.g. troupe-sim examples/worlds/swarm100.world",
+        "troupe ros2 192.168.1.20:6665 --domain 7",
+        "troupe ros2 localhost --print-config > bridge.json    # then: troupe-node bridge.json"}});
+  app->add_option("HOST", target, "HOST[:PORT]")->required();
+  app->add_option("--domain", s.domain, "DDS domain (default: ROS_DOMAIN_ID, else 0)")
+      ->type_name("N")
+      ->check(troupe::cli::between(0, 232));
+  app->add_option("--node-name", s.node_name, "the ROS 2 node name (default troupe_bridge)")
+      ->type_name("NAME")
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            return troupe::drivers::ros2::valid_ros_token(name) ? "" : "'" + name + "' is no ROS 2 name";
+          },
+          "", "ros name"));
+  app->add_option("--max-linear", s.max_linear, "cmd_vel speed limit, m/s (default 1.5)")
+      ->type_name("V")
+      ->check(troupe::cli::between(0, 1e3));
+  app->add_option("--max-angular", s.max_angular, "cmd_vel turn rate limit, rad/s (default 3.0)")
+      ->type_name("W")
+      ->check(troupe::cli::between(0, 1e3));
+  app->add_option("--time", time,
+                  "the ROS clock of the stamps (default auto: simulated\n"
+                  "time when HOST is a simulator; sim keeps the devices' stamps)")
+      ->type_name("auto|sim|wall")
+      ->check(CLI::IsMember({"auto", "sim", "wall"}));
+  troupe::cli::add_port(*app, "--port", s.local_port,
+                        "this node's own Troupe port (default 0: any free port)");
+  troupe::cli::add_log_level(*app);
+  app->add_flag("--print-config", print_config, "print the node config (for troupe-node) and exit");
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  s.time = time == "auto" ? "Auto" : time == "sim" ? "Sim" : "Wall";  // ros2.fbs TimeSource
   troupe::wire::HostPort hp;
   std::string error, host;
   if (!troupe::wire::parse_host(target, hp, error) || !numeric_host(hp.host, host, error)) {
-    std::fprintf(stderr, "troupe-ros2: %s\n", error.c_str());
-    return 2;
+    return troupe::cli::usage_error(*app, error);
   }
   s.host = hp.host;
   s.port = hp.port;

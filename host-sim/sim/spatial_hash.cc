@@ -4,7 +4,6 @@ namespace troupe::sim {
 
 void SpatialHash::reset(Vec2 lo, Vec2 hi, double cell) {
   lo_ = lo;
-  cell_ = cell;
   inv_cell_ = 1.0 / cell;
   nx_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_cell_)));
   ny_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_cell_)));

@@ -57,7 +57,6 @@ class SpatialHash {
   /// consecutive robots are near each other.
   std::span<const Item> order() const { return items_; }
 
-  double cell_size() const { return cell_; }
   double max_radius() const { return max_radius_; }
   size_t memory_bytes() const {
     return start_.capacity() * 4 + items_.capacity() * 4 + cell_of_.capacity() * 4;
@@ -68,7 +67,7 @@ class SpatialHash {
   int cell_y(double y) const { return std::clamp(int(std::floor((y - lo_.y) * inv_cell_)), 0, ny_ - 1); }
 
   Vec2 lo_;
-  double cell_ = 1, inv_cell_ = 1;
+  double inv_cell_ = 1;
   int nx_ = 1, ny_ = 1;
   double max_radius_ = 0;
   // Cells in row-major order; start_[k]..start_[k+1] indexes items_ for

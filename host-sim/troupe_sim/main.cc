@@ -13,22 +13,8 @@
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-sim");
   troupe::sim::SimOptions options;
+  if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
   std::string error;
-  bool help = false;
-  if (!troupe::sim::parse_sim_options(argc, argv, options, error, help)) {
-    std::fprintf(stderr, "troupe-sim: %s\n\n%s", error.c_str(), troupe::sim::sim_usage());
-    return 2;
-  }
-  if (help) {
-    std::printf("%s", troupe::sim::sim_usage());
-    return 0;
-  }
-  troupe::LogLevel level;
-  if (!troupe::parse_log_level(options.log_level.c_str(), level)) {
-    std::fprintf(stderr, "troupe-sim: unknown log level %s\n", options.log_level.c_str());
-    return 2;
-  }
-  troupe::set_log_level(level);
 
   // The viewer beside the node (its URL on stdout, like the port: tests
   // read it). False when it was asked for and cannot open.

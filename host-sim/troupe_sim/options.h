@@ -7,6 +7,9 @@
 
 namespace troupe::sim {
 
+/// MobileSim's first robot port, where `--p2os-tcp` serves robot 0.
+inline constexpr int kMobileSimPort = 8101;
+
 struct SimOptions {
   std::string world;
   bool headless = true;  // there is no window; the browser viewer connects over the wire
@@ -43,7 +46,6 @@ struct SimOptions {
   /// Run no in-process controllers (the robots are driven over the wire).
   bool no_ctrl = false;
   bool profile = false;  // print the time per phase at the end
-  std::string log_level = "info";
   /// --emulate ROBOT=DEVICE[,DEVICE]: robots presented as hardware on
   /// pseudo-terminals (SITL); see emulation.h.
   std::vector<std::string> emulate;
@@ -57,11 +59,9 @@ struct SimOptions {
   int p2os_tcp_port = -1;
 };
 
-/// Parses argv. False with `error` (which names the bad argument); `help`
-/// set when -h/--help was given.
-bool parse_sim_options(int argc, const char* const* argv, SimOptions& out, std::string& error, bool& help);
-
-/// The usage text.
-const char* sim_usage();
+/// Parses troupe-sim's command line into `out`. Returns -1 when the program
+/// goes on; otherwise its exit status, after printing the help (0) or a
+/// one-line mistake (2).
+int parse_sim_options(int argc, const char* const* argv, SimOptions& out);
 
 }  // namespace troupe::sim

@@ -310,12 +310,6 @@ const Property* Entity::find(std::string_view name) const {
   return nullptr;
 }
 
-void Entity::mark_used(std::string_view prefix) const {
-  for (const Property& p : properties) {
-    if (p.name.compare(0, prefix.size(), prefix) == 0) p.used = true;
-  }
-}
-
 bool WorldFile::load(const std::string& path, Diagnostics& diags, const ParseLimits& limits) {
   root_ = Entity{"world", "world", {std::make_shared<const std::string>(path), 0}, {}, {}};
   path_ = path;

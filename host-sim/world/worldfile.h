@@ -55,8 +55,6 @@ struct Entity {
 
   /// The property, marked as used, or nullptr.
   const Property* find(std::string_view name) const;
-  /// Marks every property whose name starts with `prefix` as used.
-  void mark_used(std::string_view prefix) const;
 };
 
 /// Limits that keep a hostile or broken file from exhausting the machine.

@@ -4,8 +4,6 @@
 // from the base's odometry, so that a controller sees walls come closer as
 // it drives. The kinematic base is ideal, so its odometry is the truth the
 // tests check the controller against.
-//
-//   room_node --port P [--size M] [--pillar X Y HALF] [--rate HZ]
 #include <signal.h>
 
 #include <algorithm>
@@ -13,7 +11,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
@@ -22,6 +19,7 @@
 #include "drivers/kinematic/kinematic.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
+#include "wire/cli/args.h"
 
 namespace {
 
@@ -113,12 +111,6 @@ class RoomLaser : public troupe::Driver {
   troupe::wire::Pose2d pose_{};
 };
 
-bool number(const char* text, float& out) {
-  char* end = nullptr;
-  out = std::strtof(text, &end);
-  return end != text && *end == '\0' && std::isfinite(out);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -126,30 +118,30 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
   signal(SIGTERM, [](int) { g_stop = true; });
   signal(SIGINT, [](int) { g_stop = true; });
-  float port = 0, size = 6.0f, rate = 10.0f;
-  Box pillar{1.5f, 0.0f, 0.3f};
-  for (int i = 1; i < argc; ++i) {
-    bool ok = true;
-    if (strcmp(argv[i], "--port") == 0 && i + 1 < argc) {
-      ok = number(argv[++i], port) && port >= 0 && port <= 65535;
-    } else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) {
-      ok = number(argv[++i], size) && size > 1;
-    } else if (strcmp(argv[i], "--rate") == 0 && i + 1 < argc) {
-      ok = number(argv[++i], rate) && rate > 0 && rate <= 100;
-    } else if (strcmp(argv[i], "--pillar") == 0 && i + 3 < argc) {
-      ok = number(argv[i + 1], pillar.x) && number(argv[i + 2], pillar.y) && number(argv[i + 3], pillar.half);
-      i += 3;
-    } else {
-      ok = false;
-    }
-    if (!ok) {
-      fprintf(stderr, "usage: room_node --port P [--size M] [--pillar X Y HALF] [--rate HZ]\n");
-      return 2;
-    }
-  }
+  uint16_t port = 0;
+  float size = 6.0f, rate = 10.0f;
+  std::vector<float> pillar_xyh = {1.5f, 0.0f, 0.3f};
+  auto app = troupe::cli::make_app(
+      "room_node", {"room_node --port P [--size M] [--pillar X Y HALF] [--rate HZ]",
+                    "A node for the Python client's and the record tests: a kinematic base\n"
+                    "(position2d:0) in a square room with a square pillar, and a laser (ranger:0)\n"
+                    "measuring that room from the base's odometry.\n",
+                    {"room_node --port 0 --size 8 --pillar 2 -1 0.4"}});
+  troupe::cli::add_port(*app, "--port", port, "TCP port (0: any free port, printed)");
+  app->add_option("--size", size, "the room's side, m (default 6)")
+      ->type_name("M")
+      ->check(troupe::cli::above(1));
+  app->add_option("--pillar", pillar_xyh, "the pillar's centre and half side, m (default 1.5 0 0.3)")
+      ->type_name("X Y HALF")
+      ->expected(3);
+  app->add_option("--rate", rate, "scans per second (default 10)")
+      ->type_name("HZ")
+      ->check(troupe::cli::above(0) & troupe::cli::at_most(100));
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  const Box pillar{pillar_xyh[0], pillar_xyh[1], pillar_xyh[2]};
   troupe::Node::Options options;
   options.name = "room";
-  options.port = uint16_t(port);
+  options.port = port;
   troupe::Node node(options);
   auto* base = new troupe::drivers::kinematic::Kinematic;
   auto* laser = new RoomLaser({0, 0, size / 2}, pillar, rate);

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <utility>
 
+#include "wire/log.h"
+
 namespace troupe::cli {
 namespace {
 
@@ -18,9 +20,14 @@ class HouseFormatter : public CLI::FormatterBase {
   std::string make_help(const CLI::App* app, std::string, CLI::AppFormatMode) const override {
     std::string out = "usage: " + help_.usage + "\n";
     if (!help_.about.empty()) out += "\n" + help_.about;
-    std::vector<std::pair<std::string, std::string>> rows;
+    // One row per option: its group (a heading when it changes), names and value, text.
+    struct Row {
+      std::string group, names, text;
+    };
+    std::vector<Row> rows;
     for (const CLI::Option* opt : app->get_options()) {
-      if (!opt->nonpositional() || opt == app->get_help_ptr()) continue;
+      // Hidden options (group "") are not listed.
+      if (!opt->nonpositional() || opt == app->get_help_ptr() || opt->get_group().empty()) continue;
       std::string names;
       for (const std::string& s : opt->get_snames()) names += (names.empty() ? "-" : ", -") + s;
       for (const std::string& l : opt->get_lnames()) names += (names.empty() ? "--" : ", --") + l;
@@ -28,13 +35,16 @@ class HouseFormatter : public CLI::FormatterBase {
       std::string value = opt->get_type_name();
       value = value.substr(0, value.find(':'));
       if (opt->get_type_size() != 0 && !value.empty()) names += " " + value;
-      rows.emplace_back(names, opt->get_description());
+      rows.push_back({opt->get_group(), names, opt->get_description()});
     }
     if (!rows.empty()) {
       size_t width = 0;
-      for (const auto& row : rows) width = std::max(width, row.first.size());
+      for (const Row& row : rows) width = std::max(width, row.names.size());
       out += "\n";
-      for (const auto& [names, text] : rows) {
+      std::string group = rows.front().group;
+      for (const auto& [row_group, names, text] : rows) {
+        if (row_group != group) out += "\n" + row_group + ":\n";
+        group = row_group;
         std::string line = "  " + names + std::string(width - names.size() + 2, ' ');
         // A text of several lines keeps its column.
         for (char c : text) line += c == '\n' ? "\n" + std::string(width + 4, ' ') : std::string(1, c);
@@ -122,14 +132,33 @@ CLI::Validator at_least(double min) { return compare(">=", min); }
 CLI::Validator above(double min) { return compare(">", min); }
 CLI::Validator at_most(double max) { return compare("<=", max); }
 
-CLI::Option* add_log_level(CLI::App& app, std::string& level) {
-  return app.add_option("--log-level", level, "error, warn, info (default) or debug")
+CLI::Validator between(double min, double max) {
+  return CLI::Validator(
+      [min, max](std::string& text) -> std::string {
+        double v = 0;
+        bool ok = CLI::detail::lexical_cast(text, v) && std::isfinite(v) && v >= min && v <= max;
+        return ok ? ""
+                  : "needs a number from " + CLI::detail::to_string(min) + " to " +
+                        CLI::detail::to_string(max) + ", not '" + text + "'";
+      },
+      "", "range");
+}
+
+CLI::Option* add_log_level(CLI::App& app) {
+  return app
+      .add_option_function<std::string>(
+          "--log-level",
+          [](const std::string& text) {
+            LogLevel level{};
+            if (parse_log_level(text.c_str(), level)) set_log_level(level);
+          },
+          "error, warn, info (default) or debug")
       ->type_name("LEVEL")
       ->check(CLI::IsMember({"error", "warn", "info", "debug"}));
 }
 
 CLI::Option* add_port(CLI::App& app, const std::string& flag, uint16_t& port, const std::string& what) {
-  return app.add_option(flag, port, what)->type_name("P")->check(at_least(0) & at_most(65535));
+  return app.add_option(flag, port, what)->type_name("P")->check(between(0, 65535));
 }
 
 }  // namespace troupe::cli

@@ -30,6 +30,8 @@ struct Help {
 /// `-h`/`--help` anywhere prints the help; options are listed from their
 /// definitions, so each one's text (with its unit) is written once, where it
 /// is added: `app.add_option("--duration", s, "stop after S seconds")->type_name("S")`.
+/// Options put in a group (`->group("hardware in the loop")`) follow under
+/// that heading; options in group "" are hidden.
 std::unique_ptr<CLI::App> make_app(const std::string& name, Help help);
 
 /// Parses the arguments after the program's name. Returns -1 when the
@@ -44,14 +46,16 @@ int parse(CLI::App& app, const std::vector<std::string>& args);
 int usage_error(const CLI::App& app, const std::string& message);
 
 /// Checks of a number with one-line messages ("needs a number >= 1, not '0'"):
-/// at least `min`, above it (a duration > 0), at most `max`; combine with &.
+/// at least `min`, above it (a duration > 0), at most `max`, from `min` to
+/// `max` (one message for both bounds); combine with &.
 CLI::Validator at_least(double min);
 CLI::Validator above(double min);
 CLI::Validator at_most(double max);
+CLI::Validator between(double min, double max);
 
-/// `--log-level LEVEL`, one of error, warn, info, debug, into `level`
-/// (left as it is when the option is not given).
-CLI::Option* add_log_level(CLI::App& app, std::string& level);
+/// `--log-level LEVEL`, one of error, warn, info, debug: sets the program's
+/// log level (wire/log.h) when given.
+CLI::Option* add_log_level(CLI::App& app);
 
 /// A port number 0..65535 (0: any free port, where the program says so).
 CLI::Option* add_port(CLI::App& app, const std::string& flag, uint16_t& port, const std::string& what);

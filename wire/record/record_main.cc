@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   troupe::set_log_program("troupe-record");
   signal(SIGPIPE, SIG_IGN);
   troupe::record::RecordOptions options;
-  std::string host, level;
+  std::string host;
   double duration_s = 0, timeout_s = 3;
   auto app = troupe::cli::make_app(
       "troupe record",
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   app->add_option("--timeout", timeout_s, "wait this long for the node to connect and reply (default 3)")
       ->type_name("S")
       ->check(troupe::cli::above(0) & troupe::cli::at_most(3600));
-  troupe::cli::add_log_level(*app, level);
+  troupe::cli::add_log_level(*app);
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   auto usage_error = [&](const std::string& message) { return troupe::cli::usage_error(*app, message); };
   if (host.empty()) return usage_error("missing HOST");
@@ -46,8 +46,6 @@ int main(int argc, char** argv) {
   if (options.output.empty()) return usage_error("missing -o FILE");
   options.duration_s = duration_s;
   options.timeout_ms = int(timeout_s * 1000);
-  troupe::LogLevel log_level{};
-  if (troupe::parse_log_level(level.c_str(), log_level)) troupe::set_log_level(log_level);
   std::string error;
   troupe::wire::HostPort hp;
   if (!troupe::wire::parse_host(host, hp, error)) return usage_error(error);

@@ -226,7 +226,6 @@ bool Recorder::run(int stop_fd, std::string& error) {
         lost_ = true;
       } else if (e.kind == wire::EventKind::Up) {
         lost_ = false;
-        ++reconnections_;
         send_opens();
         log_info("reconnected to %s; recording again", options_.host.c_str());
       }

@@ -50,7 +50,6 @@ class Recorder {
   uint64_t bytes() const { return writer_.bytes(); }
   /// Seconds since start().
   double elapsed_s() const;
-  uint32_t reconnections() const { return reconnections_; }
 
  private:
   struct Device {
@@ -78,7 +77,6 @@ class Recorder {
   std::vector<uint8_t> device_list_;  // the node's DeviceList reply
   uint64_t start_us_ = 0;
   uint64_t frames_ = 0;
-  uint32_t reconnections_ = 0;
   bool lost_ = false;  // the connection dropped and is not back yet
   std::string open_error_;
 };

@@ -1,9 +1,6 @@
 // troupe-emulate-odrive: ODrive axes on a CAN bus, for trying the odrive_can
-// driver without hardware.
-//
-//   troupe-emulate-odrive --can vcan0 [options]           on a SocketCAN interface
-//   troupe-emulate-odrive [options] -- COMMAND [ARGS...]  on a socketpair whose other
-//                                                         end COMMAND gets as descriptor 3
+// driver without hardware: on a SocketCAN interface, a descriptor, or a
+// socketpair whose other end a command it runs gets as descriptor 3.
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <sys/socket.h>
@@ -11,7 +8,6 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -20,60 +16,13 @@
 #include "host-sim/emulators/odrive/fault_console.h"
 #include "host-sim/emulators/odrive/odrive_emulator.h"
 #include "runtime/log.h"
+#include "wire/cli/args.h"
 
 namespace {
 
 using troupe::emulators::odrive::AxisConfig;
 using troupe::emulators::odrive::EmulatorOptions;
 using troupe::emulators::odrive::OdriveEmulator;
-
-const char kUsage[] =
-    "usage: troupe-emulate-odrive [--can IFACE | --descriptor FD] [options] [-- COMMAND [ARGS...]]\n"
-    "\n"
-    "Emulates ODrive axes (CAN Simple protocol): heartbeats every 100 ms, encoder\n"
-    "estimates every 10 ms, closed-loop velocity control with a wheel's physics.\n"
-    "\n"
-    "  --can IFACE         SocketCAN interface (e.g. vcan0)\n"
-    "  --descriptor FD     an open descriptor carrying struct can_frame bytes\n"
-    "  -- COMMAND ARGS     run COMMAND with the other end of a socketpair as\n"
-    "                      descriptor 3 (a node config with \"descriptor\": 3)\n"
-    "  --nodes A,B,...     node ids of the axes (default 0,1)\n"
-    "  --watchdog-ms N     axis watchdog timeout, ms (default 500; 0 disables)\n"
-    "  --ramp R            velocity ramp rate, turns/s^2 (default 20)\n"
-    "  --wrap-turns T      report positions within [0, T) (default 0: linear)\n"
-    "  --volts V           supply voltage, V (default 24)\n"
-    "  --drop P            drop each frame with probability P (default 0)\n"
-    "  --seed N            seed for the drop decisions (default 1)\n"
-    "  --status-ms N       print the axes' state every N ms (default 1000; 0: never)\n"
-    "\n"
-    "Fault commands on standard input, one a line: silent NODE on|off,\n"
-    "error NODE BITS [keep], clear NODE, reboot NODE, drop P, garbage NODE N, status.\n"
-    "\n"
-    "examples:\n"
-    "  troupe-emulate-odrive -- troupe-node examples/nodes/odrive_emulated.json\n"
-    "  troupe-emulate-odrive --can vcan0 --nodes 0,1 --watchdog-ms 300\n";
-
-[[noreturn]] void usage_error(const char* what) {
-  fprintf(stderr, "troupe-emulate-odrive: %s\n%s", what, kUsage);
-  exit(2);
-}
-
-bool parse_nodes(const char* text, std::vector<uint8_t>& out) {
-  out.clear();
-  const char* p = text;
-  while (*p) {
-    char* end = nullptr;
-    long v = strtol(p, &end, 10);
-    if (end == p || v < 0 || v > 63) return false;
-    out.push_back(uint8_t(v));
-    p = end;
-    if (*p == ',')
-      ++p;
-    else if (*p)
-      return false;
-  }
-  return !out.empty();
-}
 
 // Reads fault commands from standard input, prints the axes' state now and
 // then, and stops the loop on a signal or when the child exits.
@@ -142,55 +91,63 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
   std::string ifname;
   int descriptor = -1;
-  std::vector<uint8_t> nodes = {0, 1};
   uint32_t watchdog_ms = 500, status_ms = 1000;
   float ramp = 20, wrap = 0, volts = 24;
   double drop = 0;
   uint64_t seed = 1;
-  char** command = nullptr;
-  for (int i = 1; i < argc; ++i) {
-    auto value = [&](const char* flag) -> const char* {
-      if (i + 1 >= argc) usage_error((std::string(flag) + " needs a value").c_str());
-      return argv[++i];
-    };
-    const char* a = argv[i];
-    if (strcmp(a, "--") == 0) {
-      if (i + 1 >= argc) usage_error("-- needs a command");
-      command = argv + i + 1;
-      break;
-    }
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-      fputs(kUsage, stdout);
-      return 0;
-    } else if (strcmp(a, "--can") == 0) {
-      ifname = value(a);
-    } else if (strcmp(a, "--descriptor") == 0) {
-      descriptor = atoi(value(a));
-    } else if (strcmp(a, "--nodes") == 0) {
-      if (!parse_nodes(value(a), nodes)) usage_error("--nodes wants node ids 0..63 separated by commas");
-    } else if (strcmp(a, "--watchdog-ms") == 0) {
-      watchdog_ms = uint32_t(strtoul(value(a), nullptr, 10));
-    } else if (strcmp(a, "--ramp") == 0) {
-      ramp = strtof(value(a), nullptr);
-    } else if (strcmp(a, "--wrap-turns") == 0) {
-      wrap = strtof(value(a), nullptr);
-    } else if (strcmp(a, "--volts") == 0) {
-      volts = strtof(value(a), nullptr);
-    } else if (strcmp(a, "--drop") == 0) {
-      drop = strtod(value(a), nullptr);
-    } else if (strcmp(a, "--seed") == 0) {
-      seed = strtoull(value(a), nullptr, 10);
-    } else if (strcmp(a, "--status-ms") == 0) {
-      status_ms = uint32_t(strtoul(value(a), nullptr, 10));
-    } else {
-      usage_error((std::string("unknown option ") + a).c_str());
-    }
-  }
+  // Everything after "--" is the command, not ours to parse.
+  int ours = 1;
+  while (ours < argc && strcmp(argv[ours], "--") != 0) ++ours;
+  char** command = ours + 1 < argc ? argv + ours + 1 : nullptr;
+  auto app = troupe::cli::make_app(
+      "troupe-emulate-odrive",
+      {"troupe-emulate-odrive [--can IFACE | --descriptor FD] [options] [-- COMMAND [ARGS...]]",
+       "Emulates ODrive axes (CAN Simple protocol): heartbeats every 100 ms, encoder\n"
+       "estimates every 10 ms, closed-loop velocity control with a wheel's physics.\n"
+       "With -- COMMAND ARGS, runs COMMAND with the other end of a socketpair as\n"
+       "descriptor 3 (a node config with \"descriptor\": 3).\n"
+       "\n"
+       "Fault commands on standard input, one a line: silent NODE on|off,\n"
+       "error NODE BITS [keep], clear NODE, reboot NODE, drop P, garbage NODE N, status.\n",
+       {"troupe-emulate-odrive -- troupe-node examples/nodes/odrive_emulated.json",
+        "troupe-emulate-odrive --can vcan0 --nodes 0,1 --watchdog-ms 300"}});
+  auto* can = app->add_option("--can", ifname, "SocketCAN interface (e.g. vcan0)")->type_name("IFACE");
+  app->add_option("--descriptor", descriptor, "an open descriptor carrying struct can_frame bytes")
+      ->type_name("FD")
+      ->check(troupe::cli::at_least(0))
+      ->excludes(can);
+  std::vector<unsigned> node_ids = {0, 1};
+  app->add_option("--nodes", node_ids, "node ids of the axes, 0..63 (default 0,1)")
+      ->type_name("A,B,...")
+      ->delimiter(',')
+      ->check(troupe::cli::between(0, 63));
+  app->add_option("--watchdog-ms", watchdog_ms, "axis watchdog timeout, ms (default 500; 0 disables)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(0));
+  app->add_option("--ramp", ramp, "velocity ramp rate, turns/s^2 (default 20)")
+      ->type_name("R")
+      ->check(troupe::cli::above(0));
+  app->add_option("--wrap-turns", wrap, "report positions within [0, T) (default 0: linear)")
+      ->type_name("T")
+      ->check(troupe::cli::at_least(0));
+  app->add_option("--volts", volts, "supply voltage, V (default 24)")
+      ->type_name("V")
+      ->check(troupe::cli::above(0));
+  app->add_option("--drop", drop, "drop each frame with probability P (default 0)")
+      ->type_name("P")
+      ->check(troupe::cli::between(0, 1));
+  app->add_option("--seed", seed, "seed for the drop decisions (default 1)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(0));
+  app->add_option("--status-ms", status_ms, "print the axes' state every N ms (default 1000; 0: never)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(0));
+  if (int rc = troupe::cli::parse(*app, std::vector<std::string>(argv + 1, argv + ours)); rc >= 0) return rc;
+  if (ours < argc && command == nullptr) return troupe::cli::usage_error(*app, "-- needs a command");
   if (int(!ifname.empty()) + int(descriptor >= 0) + int(command != nullptr) != 1) {
-    usage_error("give exactly one of --can, --descriptor or -- COMMAND");
+    return troupe::cli::usage_error(*app, "give exactly one of --can, --descriptor or -- COMMAND");
   }
-  if (!(ramp > 0) || !(wrap >= 0) || !(drop >= 0 && drop <= 1))
-    usage_error("--ramp > 0, --wrap-turns >= 0, --drop in [0, 1]");
+  const std::vector<uint8_t> nodes(node_ids.begin(), node_ids.end());
 
   // Signals are read through a signalfd in the loop. Blocked before fork so
   // that a child exiting at once is not missed; the child unblocks them.

@@ -6,6 +6,7 @@
 
 #include "host-sim/emulators/p2os/pioneer_emulator.h"
 #include "host-sim/emulators/serial_line/emulator_main.h"
+#include "wire/cli/args.h"
 
 int main(int argc, char** argv) {
   namespace emu = troupe::emulators;
@@ -16,26 +17,19 @@ int main(int argc, char** argv) {
   p.about =
       "Emulates a Pioneer robot (P2OS firmware) on a new pseudo-terminal and\n"
       "prints its path. A p2os driver (or ARIA) opens that path (or PATH, a\n"
-      "symbolic link made to it) as its serial port.";
-  p.flags_help =
-      "  --model NAME     robot subclass: p3dx-sh (default) or p3dx\n"
-      "  --name TEXT      robot name reported in the handshake\n";
-  p.examples =
-      "  troupe-emulate-p2os --link pioneer-port --baud 38400\n"
-      "  troupe emulate-p2os --link pioneer-port --drop 0.01 --seed 7   # a noisy cable\n";
+      "symbolic link made to it) as its serial port.\n";
+  p.examples = {"troupe-emulate-p2os --link pioneer-port --baud 38400",
+                "troupe emulate-p2os --link pioneer-port --drop 0.01 --seed 7   # a noisy cable"};
   p.bauds = {9600, 19200, 38400, 57600, 115200};
-  auto model = [&](const char* v) {
-    robot.model = v;
-    if (troupe::drivers::p2os::find_robot(robot.model) == nullptr)
-      fprintf(stderr, "troupe-emulate-p2os: note: '%s' is no known model; reporting it with p3dx-sh units\n", v);
-    return std::string();
+  p.add_flags = [&](CLI::App& app) {
+    app.add_option("--model", robot.model, "robot subclass: p3dx-sh (default) or p3dx")->type_name("NAME");
+    app.add_option("--name", robot.name, "robot name reported in the handshake")->type_name("TEXT");
   };
-  auto name = [&](const char* v) {
-    robot.name = v;
-    return std::string();
-  };
-  p.flags = {{"--model", model}, {"--name", name}};
   p.make = [&](const emu::EmulatorOptions& o) {
+    if (troupe::drivers::p2os::find_robot(robot.model) == nullptr) {
+      fprintf(stderr, "troupe-emulate-p2os: note: '%s' is no known model; reporting it with p3dx-sh units\n",
+              robot.model.c_str());
+    }
     robot.baud = o.baud;
     robot.seed = o.seed;
     robot.check_baud = o.check_baud;

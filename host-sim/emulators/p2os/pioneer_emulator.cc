@@ -90,7 +90,6 @@ void PioneerEmulator::step(uint64_t now_us) {
 }
 
 void PioneerEmulator::receive(std::span<const uint8_t> p) {
-  ++packets_received_;
   last_packet_us_ = now_us_;
   const uint8_t cmd = p[0];
   const bool bare = p.size() == 1;

@@ -95,10 +95,8 @@ class PioneerEmulator final : public SerialEmulator {
   /// The robot's parameters in use.
   const drivers::p2os::RobotParams& robot() const { return *robot_; }
   uint32_t sips_sent() const { return sips_sent_; }
-  uint32_t packets_received() const { return packets_received_; }
   /// Commands heard that the emulator does not model (each logged once).
   uint32_t unmodelled() const { return unmodelled_; }
-  const SimLaserPackets& sim_laser() const { return sim_laser_; }
   /// The last sensor readings sent (sonar, battery, bumpers).
   const PioneerSenses& senses() const { return senses_; }
 
@@ -111,7 +109,6 @@ class PioneerEmulator final : public SerialEmulator {
 
   void receive(std::span<const uint8_t> payload);
   void obey(std::span<const uint8_t> payload);
-  bool obey_sim(std::span<const uint8_t> payload);
   void unmodelled(uint8_t command);
   void reply(std::span<const uint8_t> payload);
   void send_packet(const drivers::p2os::Packet& packet);
@@ -142,7 +139,7 @@ class PioneerEmulator final : public SerialEmulator {
   size_t polling_size_ = 0, next_sonar_ = 0;
   uint64_t now_us_ = 0, last_step_us_ = 0, last_packet_us_ = 0, next_sip_us_ = 0;
   bool started_ = false;
-  uint32_t sips_sent_ = 0, packets_received_ = 0, unmodelled_ = 0;
+  uint32_t sips_sent_ = 0, unmodelled_ = 0;
   std::bitset<256> unmodelled_logged_;
 };
 

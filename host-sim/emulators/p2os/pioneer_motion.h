@@ -64,7 +64,6 @@ class PioneerMotion {
   /// What the wheels are driven towards, m/s.
   double target_left() const;
   double target_right() const;
-  Trans trans_mode() const { return trans_; }
   Rot rot_mode() const { return rot_; }
   /// Metres of a MOVE still to go (0 in velocity mode).
   double remaining() const { return trans_ == Trans::Distance ? remaining_ : 0; }

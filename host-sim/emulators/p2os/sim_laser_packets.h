@@ -46,9 +46,7 @@ class SimLaserPackets {
   bool obey(std::span<const uint8_t> payload);
   /// 0 off, 1 plain, 2 extended.
   int mode() const { return laser_ ? mode_ : 0; }
-  /// Field of view and step, degrees.
-  double start_deg() const { return start_deg_; }
-  double end_deg() const { return end_deg_; }
+  /// The step between beams, degrees.
   double step_deg() const { return step_cdeg_ / 100.0; }
 
   /// Measures one scan and frames it as packets, calling `send(packet)`

@@ -4,12 +4,10 @@
 #include <signal.h>
 #include <time.h>
 
-#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 
 #include "runtime/clock.h"
+#include "wire/cli/args.h"
 
 namespace troupe::emulators {
 namespace {
@@ -20,12 +18,6 @@ void on_signal(int) {
   g_stop = 1;
 }
 
-bool number(const char* text, double& out) {
-  char* end = nullptr;
-  out = strtod(text, &end);
-  return end != text && *end == '\0' && out >= 0;
-}
-
 std::string list(const std::vector<uint32_t>& bauds) {
   std::string text;
   for (size_t i = 0; i < bauds.size(); ++i) {
@@ -34,65 +26,50 @@ std::string list(const std::vector<uint32_t>& bauds) {
   return text;
 }
 
-}  // namespace
-
-std::string emulator_usage(const EmulatorProgram& p) {
-  return std::string("usage: ") + p.name + " [--link PATH] [--baud N] " + p.synopsis +
-         "\n       [--flip P] [--drop P] [--tear P] [--seed N] [--no-baud-check]\n\n" + p.about +
-         "\n\n  --link PATH      also make PATH a symbolic link to the port\n"
-         "  --baud N         the device's line speed at power-up, bit/s: " +
-         list(p.bauds) + " (default " + std::to_string(p.bauds.front()) + ")\n" + p.flags_help +
-         "  --flip P         per byte sent: probability a bit flips\n"
-         "  --drop P         per byte sent: probability it is lost\n"
-         "  --tear P         per packet sent: probability it is cut short\n"
-         "  --seed N         seed of the fault generator (default 1)\n"
-         "  --no-baud-check  talk whatever speed the driver's end is set to\n"
-         "\nexamples:\n" +
-         p.examples;
+// --baud: one of the device's speeds.
+CLI::Validator one_of(const std::vector<uint32_t>& bauds) {
+  return CLI::Validator(
+      [bauds](std::string& text) -> std::string {
+        for (uint32_t baud : bauds) {
+          if (text == std::to_string(baud)) return "";
+        }
+        return "must be " + list(bauds) + ", not '" + text + "'";
+      },
+      "", "baud");
 }
+
+}  // namespace
 
 int emulator_main(int argc, char** argv, const EmulatorProgram& program) {
   EmulatorOptions options;
   options.baud = program.bauds.front();
-  const std::string usage = emulator_usage(program);
-  auto fail = [&](const std::string& why) {
-    fprintf(stderr, "%s: %s\n%s", program.name, why.c_str(), usage.c_str());
-    return 2;
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      fputs(usage.c_str(), stdout);
-      return 0;
-    }
-    if (a == "--no-baud-check") {
-      options.check_baud = false;
-      continue;
-    }
-    if (i + 1 >= argc) return fail(a + " needs a value");
-    const char* value = argv[++i];
-    double n = 0;
-    auto need_number = [&](double& out) { return number(value, out); };
-    if (a == "--link") {
-      options.link = value;
-    } else if (a == "--baud" || a == "--flip" || a == "--drop" || a == "--tear" || a == "--seed") {
-      if (!need_number(n)) return fail(a + " needs a number >= 0, not '" + value + "'");
-      if (a == "--baud") options.baud = uint32_t(n);
-      if (a == "--flip") options.rates.bit_flip = n;
-      if (a == "--drop") options.rates.byte_drop = n;
-      if (a == "--tear") options.rates.tear = n;
-      if (a == "--seed") options.seed = uint64_t(n);
-    } else {
-      auto flag = std::find_if(program.flags.begin(), program.flags.end(),
-                               [&](const EmulatorProgram::Flag& f) { return a == f.name; });
-      if (flag == program.flags.end()) return fail("unexpected argument '" + a + "'");
-      std::string error = flag->set(value);
-      if (!error.empty()) return fail(error);
-    }
-  }
-  if (std::find(program.bauds.begin(), program.bauds.end(), options.baud) == program.bauds.end()) {
-    return fail("--baud must be " + list(program.bauds));
-  }
+  auto app = cli::make_app(program.name,
+                           {std::string(program.name) + " [--link PATH] [--baud N] " + program.synopsis +
+                                "\n       [--flip P] [--drop P] [--tear P] [--seed N] [--no-baud-check]",
+                            program.about, program.examples});
+  app->add_option("--link", options.link, "also make PATH a symbolic link to the port")->type_name("PATH");
+  app->add_option("--baud", options.baud,
+                  "the device's line speed at power-up, bit/s: " + list(program.bauds) + " (default " +
+                      std::to_string(program.bauds.front()) + ")")
+      ->type_name("N")
+      ->check(one_of(program.bauds));
+  if (program.add_flags) program.add_flags(*app);
+  app->add_option("--flip", options.rates.bit_flip, "per byte sent: probability a bit flips")
+      ->type_name("P")
+      ->check(cli::between(0, 1));
+  app->add_option("--drop", options.rates.byte_drop, "per byte sent: probability it is lost")
+      ->type_name("P")
+      ->check(cli::between(0, 1));
+  app->add_option("--tear", options.rates.tear, "per packet sent: probability it is cut short")
+      ->type_name("P")
+      ->check(cli::between(0, 1));
+  app->add_option("--seed", options.seed, "seed of the fault generator (default 1)")
+      ->type_name("N")
+      ->check(cli::at_least(0));
+  bool no_baud_check = false;
+  app->add_flag("--no-baud-check", no_baud_check, "talk whatever speed the driver's end is set to");
+  if (int rc = cli::parse(*app, argc, argv); rc >= 0) return rc;
+  options.check_baud = !no_baud_check;
 
   std::unique_ptr<SerialEmulator> device = program.make(options);
   device->faults().rates = options.rates;

@@ -2,8 +2,8 @@
 // troupe-emulate-sick): the flags every serial device shares (--link,
 // --baud, faults, --seed, --no-baud-check), the device's own flags, then
 // the device on a new pseudo-terminal, its path printed on stdout, stepped
-// until SIGINT or SIGTERM. Argument parsing stays here, small and
-// self-contained.
+// until SIGINT or SIGTERM. The command line is CLI11's, through
+// wire/cli/args.h.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,10 @@
 
 #include "host-sim/emulators/serial_line/line_faults.h"
 #include "host-sim/emulators/serial_line/serial_emulator.h"
+
+namespace CLI {
+class App;
+}
 
 namespace troupe::emulators {
 
@@ -31,20 +35,15 @@ struct EmulatorProgram {
   /// "troupe-emulate-p2os": for messages.
   const char* name = "";
   /// What --help says beyond the common flags: the device's flags for the
-  /// usage line ("[--model NAME]"), a description, the device's flags'
-  /// help lines, and examples.
+  /// usage line ("[--model NAME]"), a description (whole lines), and
+  /// examples, each a command line that runs the program.
   const char* synopsis = "";
   const char* about = "";
-  const char* flags_help = "";
-  const char* examples = "";
+  std::vector<std::string> examples;
   /// The bauds the device speaks, bit/s; the first is the default.
   std::vector<uint32_t> bauds;
-  /// A device flag taking a value: `set(value)` returns an error, or "".
-  struct Flag {
-    const char* name;
-    std::function<std::string(const char* value)> set;
-  };
-  std::vector<Flag> flags;
+  /// Adds the device's own flags, with their help, to the command line.
+  std::function<void(CLI::App&)> add_flags;
   /// Builds the device from the common options.
   std::function<std::unique_ptr<SerialEmulator>(const EmulatorOptions&)> make;
   /// The stderr line once the device is up, e.g. "LMS200 at 9600 baud".
@@ -53,8 +52,6 @@ struct EmulatorProgram {
   int poll_ms = 5;
 };
 
-/// The whole --help text.
-std::string emulator_usage(const EmulatorProgram& program);
 /// Parses `argv`, runs the device until a stop signal; the exit code.
 int emulator_main(int argc, char** argv, const EmulatorProgram& program);
 

@@ -1,11 +1,12 @@
 // troupe-emulate-sick: a SICK LMS200 on a pseudo-terminal, for trying
 // the sicklms200 driver (or any LMS2xx client) without a scanner. Prints
 // the port's path on stdout, then runs until interrupted.
-#include <cstdlib>
+#include <cstdint>
 #include <memory>
 
 #include "host-sim/emulators/serial_line/emulator_main.h"
 #include "host-sim/emulators/sicklms200/sick_emulator.h"
+#include "wire/cli/args.h"
 
 int main(int argc, char** argv) {
   namespace emu = troupe::emulators;
@@ -16,20 +17,18 @@ int main(int argc, char** argv) {
   p.about =
       "Emulates a SICK LMS200 laser scanner on a new pseudo-terminal and prints\n"
       "its path. It stands in a 20 x 6 m corridor, powers up at 9600 baud and\n"
-      "waits for a driver to configure it.";
-  p.flags_help = "  --startup-ms N   from a reset request to the power-on message (default 2000)\n";
-  p.examples =
-      "  troupe-emulate-sick --link laser-port\n"
-      "  troupe emulate-sick --link laser-port --tear 0.05 --seed 3   # torn telegrams\n";
+      "waits for a driver to configure it.\n";
+  p.examples = {"troupe-emulate-sick --link laser-port",
+                "troupe emulate-sick --link laser-port --tear 0.05 --seed 3   # torn telegrams"};
   p.bauds = {9600, 19200, 38400, 500000};
-  p.flags = {{"--startup-ms", [&](const char* v) {
-                char* end = nullptr;
-                unsigned long ms = strtoul(v, &end, 10);
-                if (end == v || *end != '\0') return std::string("--startup-ms needs a number of ms");
-                scanner.startup_us = uint64_t(ms) * 1000;
-                return std::string();
-              }}};
+  uint64_t startup_ms = scanner.startup_us / 1000;
+  p.add_flags = [&](CLI::App& app) {
+    app.add_option("--startup-ms", startup_ms, "from a reset request to the power-on message (default 2000)")
+        ->type_name("N")
+        ->check(troupe::cli::at_least(0));
+  };
   p.make = [&](const emu::EmulatorOptions& o) {
+    scanner.startup_us = startup_ms * 1000;
     scanner.power_up_baud = o.baud;
     scanner.seed = o.seed;
     scanner.check_baud = o.check_baud;

@@ -82,8 +82,6 @@ class SickEmulator final : public SerialEmulator {
   Units units() const { return Units(config_block_[drivers::sicklms200::kConfigUnits]); }
   uint16_t width_deg() const { return width_deg_; }
   uint16_t resolution_cdeg() const { return resolution_cdeg_; }
-  /// Scans averaged per telegram in mean-values mode.
-  uint8_t mean_samples() const { return mean_samples_; }
   uint32_t scans_sent() const { return scans_sent_; }
   uint32_t nacks_sent() const { return nacks_sent_; }
   /// The ranges of the last scan sent, in its units.

@@ -69,8 +69,6 @@ class Referee {
   /// Events of the last judge(), and of the whole game.
   const std::vector<RefereeEvent>& last_events() const { return last_; }
   const std::vector<RefereeEvent>& history() const { return history_; }
-  /// Scores set by hand (a match restored, a benchmark round reset).
-  void set_score(Score score) { score_ = score; }
   /// Back to play, e.g. after the simulation reset the field by hand.
   void restart() {
     phase_ = GamePhase::Play;

@@ -169,11 +169,6 @@ double World::inertia(BodyId id) const {
   return b ? b->inertia : 0;
 }
 
-bool World::is_static(BodyId id) const {
-  const Body* b = get(id);
-  return !b || b->inv_mass == 0;
-}
-
 uint64_t World::user_data(BodyId id) const {
   const Body* b = get(id);
   return b ? b->user_data : 0;

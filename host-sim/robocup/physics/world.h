@@ -134,7 +134,6 @@ class World {
   /// kg and kg m^2 (0 for static bodies).
   double mass(BodyId id) const;
   double inertia(BodyId id) const;
-  bool is_static(BodyId id) const;
   uint64_t user_data(BodyId id) const;
   std::span<const Shape> shapes(BodyId id) const;
   /// Replaces the body's shapes (a kicker changing state); its mass

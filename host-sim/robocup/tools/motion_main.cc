@@ -1,18 +1,12 @@
 // troupe-robocup-motion: records motion logs and trains the learned motion
-// model from them (`troupe robocup-motion` through the CLI).
-//
-//   troupe-robocup-motion record ROBOT_FILE [--seconds S] [--seed N] [--out LOG]
-//   troupe-robocup-motion fit LOG --out MODEL
-//   troupe-robocup-motion check MODEL LOG
-//
-// record drives the robot ROBOT_FILE defines (`define NAME robocup_robot`, NAME
-// the file's name without extension; its motion plugin) with seeded
-// random commands; a log from a real robot in the same format
+// model from them (`troupe robocup-motion` through the CLI). record drives
+// the robot ROBOT_FILE defines (`define NAME robocup_robot`, NAME the file's
+// name without extension; its motion plugin) with seeded random commands; a
+// log from a real robot in the same format
 // (plugins/learned_motion/motion_model.h) trains just as well. check prints
 // how well a model predicts a log against assuming the velocity stays.
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -20,61 +14,18 @@
 #include "host-sim/robocup/game/motion_log.h"
 #include "host-sim/robocup/plugins/learned_motion/motion_model.h"
 #include "runtime/log.h"
+#include "wire/cli/args.h"
 
 using namespace troupe::robocup;
 
 namespace {
 
-const char kUsage[] =
-    "usage: troupe-robocup-motion record ROBOT_FILE [--seconds S] [--seed N] [--out LOG]\n"
-    "       troupe-robocup-motion fit LOG --out MODEL\n"
-    "       troupe-robocup-motion check MODEL LOG\n";
-
-const char kHelp[] =
-    "\n"
-    "The learned motion model: `record` drives the robot of ROBOT_FILE with seeded\n"
-    "random commands and pushes and writes a motion log (a line per cycle: time_s\n"
-    "vx vy w cmd_vx cmd_vy cmd_w, robot frame, SI; a real robot's log trains the\n"
-    "same way); `fit` trains a model on a log; `check` prints how well a model\n"
-    "predicts a log against assuming the velocity stays (RMS per axis).\n"
-    "\n"
-    "  --seconds S   simulated time to record, s (default 120)\n"
-    "  --seed N      seed of the commands and pushes (default 1)\n"
-    "  --out FILE    where the log (record) or the model (fit) goes\n"
-    "\n"
-    "examples:\n"
-    "  troupe-robocup-motion record examples/robocup/robots/pioneer.inc --seed 1 --out run.log\n"
-    "  troupe robocup-motion fit run.log --out pioneer.motion\n"
-    "  troupe robocup-motion check pioneer.motion other-run.log\n";
-
-/// The short usage to stderr for a mistake (exit 2); the whole help to
-/// stdout when asked (exit 0).
-int usage(bool asked = false) {
-  fputs(kUsage, asked ? stdout : stderr);
-  if (asked) fputs(kHelp, stdout);
-  return asked ? 0 : 2;
-}
-
-int record(int argc, char** argv) {
-  if (argc < 3) return usage();
-  MotionLogSettings s;
-  std::string out_file;
-  for (int i = 3; i + 1 < argc; i += 2) {
-    if (!strcmp(argv[i], "--seconds")) {
-      s.seconds = std::atof(argv[i + 1]);
-    } else if (!strcmp(argv[i], "--seed")) {
-      s.seed = std::strtoull(argv[i + 1], nullptr, 10);
-    } else if (!strcmp(argv[i], "--out")) {
-      out_file = argv[i + 1];
-    } else {
-      return usage();
-    }
-  }
+int record(const std::string& robot_file, const MotionLogSettings& s, const std::string& out_file) {
   WorldSpec world;
   std::string error;
   // The robot file defines a robot type named as the file.
-  const std::string type = std::filesystem::path(argv[2]).stem().string();
-  const std::string text = "include \"" + std::string(argv[2]) + "\"\nseed " + std::to_string(s.seed) +
+  const std::string type = std::filesystem::path(robot_file).stem().string();
+  const std::string text = "include \"" + robot_file + "\"\nseed " + std::to_string(s.seed) +
                            "\nreferee ( enabled 0 )\n" + type + " ( name \"r\" team \"blue\" )\n";
   if (!parse_world_text(text, "record.world", world, error)) {
     fprintf(stderr, "troupe-robocup-motion: %s\n", error.c_str());
@@ -96,28 +47,26 @@ int record(int argc, char** argv) {
   return 0;
 }
 
-int fit(int argc, char** argv) {
-  if (argc != 5 || strcmp(argv[3], "--out")) return usage();
+int fit(const std::string& log_file, const std::string& model_file) {
   std::vector<MotionSample> samples;
   double cycle = 0;
   std::string error;
   MotionModel model;
-  if (!read_motion_log(argv[2], samples, cycle, error) || !MotionModel::fit(samples, cycle, model, error) ||
-      !model.save(argv[4], error)) {
+  if (!read_motion_log(log_file, samples, cycle, error) || !MotionModel::fit(samples, cycle, model, error) ||
+      !model.save(model_file, error)) {
     fprintf(stderr, "troupe-robocup-motion: %s\n", error.c_str());
     return 1;
   }
-  printf("fitted %zu samples at %.4f s cycles into %s\n", samples.size(), cycle, argv[4]);
+  printf("fitted %zu samples at %.4f s cycles into %s\n", samples.size(), cycle, model_file.c_str());
   return 0;
 }
 
-int check(int argc, char** argv) {
-  if (argc != 4) return usage();
+int check(const std::string& model_file, const std::string& log_file) {
   MotionModel model;
   std::vector<MotionSample> samples;
   double cycle = 0;
   std::string error;
-  if (!MotionModel::load(argv[2], model, error) || !read_motion_log(argv[3], samples, cycle, error)) {
+  if (!MotionModel::load(model_file, model, error) || !read_motion_log(log_file, samples, cycle, error)) {
     fprintf(stderr, "troupe-robocup-motion: %s\n", error.c_str());
     return 1;
   }
@@ -144,13 +93,52 @@ int check(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-robocup-motion");
-  if (argc < 2) return usage();
-  if (!strcmp(argv[1], "help")) return usage(true);
-  for (int i = 1; i < argc; ++i) {
-    if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) return usage(true);
+  std::string command, out_file;
+  std::vector<std::string> files;
+  MotionLogSettings settings;
+  auto app = troupe::cli::make_app(
+      "troupe-robocup-motion",
+      {"troupe-robocup-motion record ROBOT_FILE [--seconds S] [--seed N] [--out LOG]\n"
+       "       troupe-robocup-motion fit LOG --out MODEL\n"
+       "       troupe-robocup-motion check MODEL LOG",
+       "The learned motion model: `record` drives the robot of ROBOT_FILE with seeded\n"
+       "random commands and pushes and writes a motion log (a line per cycle: time_s\n"
+       "vx vy w cmd_vx cmd_vy cmd_w, robot frame, SI; a real robot's log trains the\n"
+       "same way); `fit` trains a model on a log; `check` prints how well a model\n"
+       "predicts a log against assuming the velocity stays (RMS per axis).\n",
+       {"troupe-robocup-motion record examples/robocup/robots/pioneer.inc --seed 1 --out run.log",
+        "troupe robocup-motion fit run.log --out pioneer.motion",
+        "troupe robocup-motion check pioneer.motion other-run.log"}});
+  app->add_option("COMMAND", command, "record, fit or check")
+      ->required()
+      ->check(CLI::IsMember({"record", "fit", "check", "help"}));
+  app->add_option("FILE", files, "the command's files");
+  auto* seconds = app->add_option("--seconds", settings.seconds, "simulated time to record, s (default 120)")
+                      ->type_name("S")
+                      ->check(troupe::cli::above(0));
+  auto* seed = app->add_option("--seed", settings.seed, "seed of the commands and pushes (default 1)")
+                   ->type_name("N")
+                   ->check(troupe::cli::at_least(0));
+  auto* out =
+      app->add_option("--out", out_file, "where the log (record) or the model (fit) goes")->type_name("FILE");
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  if (command == "help") {
+    fputs(app->help().c_str(), stdout);
+    return 0;
   }
-  if (!strcmp(argv[1], "record")) return record(argc, argv);
-  if (!strcmp(argv[1], "fit")) return fit(argc, argv);
-  if (!strcmp(argv[1], "check")) return check(argc, argv);
-  return usage();
+  auto mistake = [&](const std::string& what) {
+    return troupe::cli::usage_error(*app, command + ": " + what);
+  };
+  const bool record_options = seconds->count() > 0 || seed->count() > 0;
+  if (command == "record") {
+    if (files.size() != 1) return mistake("needs one ROBOT_FILE");
+    return record(files[0], settings, out_file);
+  }
+  if (record_options) return mistake("--seconds and --seed are record's");
+  if (command == "fit") {
+    if (files.size() != 1 || out->count() == 0) return mistake("needs LOG --out MODEL");
+    return fit(files[0], out_file);
+  }
+  if (files.size() != 2 || out->count() > 0) return mistake("needs MODEL LOG");
+  return check(files[0], files[1]);
 }

@@ -1,8 +1,4 @@
 // troupe-robocup: runs a RoboCup world (`troupe robocup` through the CLI).
-//
-//   troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]
-//                  [--plugin-path DIR]... [--profile] [--quiet]
-//
 // Without --script or --interactive it runs S simulated seconds (default:
 // the referee's duration, else 60) as fast as it can and prints the
 // referee's events and the final score. A script or standard input holds
@@ -12,7 +8,6 @@
 // 1 a command failed, 2 the world could not be loaded.
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -20,39 +15,11 @@
 #include "host-sim/plugin/plugin_loader.h"
 #include "host-sim/robocup/game/console.h"
 #include "runtime/log.h"
+#include "wire/cli/args.h"
 
 using namespace troupe::robocup;
 
 namespace {
-
-const char kUsage[] =
-    "usage: troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]\n"
-    "                     [--plugin-path DIR]... [--profile] [--quiet]\n";
-
-const char kHelp[] =
-    "\n"
-    "Runs a RoboCup F2000 world: the field, ball, robots and their plugins, and the\n"
-    "referee. Without a script it runs as fast as it can and prints the referee's\n"
-    "events and the final score. To serve a match over the wire (real time, the\n"
-    "browser viewer, clients driving robots), run it with troupe-sim instead.\n"
-    "\n"
-    "  --seconds S      simulated time to run, s (default: the referee's duration, else 60)\n"
-    "  --seed N         seed of every random number in the run (default: the world's)\n"
-    "  --script FILE    run console commands from FILE (run 10, start ROBOT PLUGIN, score, ...)\n"
-    "  --interactive    run console commands typed on standard input\n"
-    "  --plugin-path D  look for plugins in folder D first (repeatable)\n"
-    "  --profile        print the mean time per cycle of each phase at the end\n"
-    "  --quiet          no event lines, only the final score\n"
-    "\n"
-    "examples:\n"
-    "  troupe-robocup examples/robocup/match.world --seconds 120 --seed 4\n"
-    "  troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit\n";
-
-/// The short usage to stderr for a mistake; the whole help to stdout when asked.
-void usage(bool asked = false) {
-  fputs(kUsage, asked ? stdout : stderr);
-  if (asked) fputs(kHelp, stdout);
-}
 
 struct Totals {
   CycleProfile sum;
@@ -87,57 +54,49 @@ int main(int argc, char** argv) {
   troupe::set_log_program("troupe-robocup");
   std::string world_file, script;
   double seconds = -1;
-  long seed = -1;
+  uint64_t seed = 0;
   bool interactive = false, profile = false, quiet = false;
   std::vector<std::string> plugin_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&](const char* what) -> const char* {
-      if (i + 1 >= argc) {
-        fprintf(stderr, "troupe-robocup: %s needs %s\n", arg.c_str(), what);
-        exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--seconds") {
-      seconds = std::atof(value("seconds"));
-    } else if (arg == "--seed") {
-      seed = std::atol(value("a number"));
-    } else if (arg == "--script") {
-      script = value("a file");
-    } else if (arg == "--plugin-path") {
-      plugin_path.push_back(value("a folder"));
-    } else if (arg == "--interactive") {
-      interactive = true;
-    } else if (arg == "--profile") {
-      profile = true;
-    } else if (arg == "--quiet") {
-      quiet = true;
-    } else if (arg == "--serve") {
-      fprintf(stderr, "troupe-robocup: to serve a match, run it with troupe-sim: troupe-sim %s\n",
-              world_file.empty() ? "WORLD" : world_file.c_str());
-      return 2;
-    } else if (arg == "-h" || arg == "--help") {
-      usage(true);
-      return 0;
-    } else if (world_file.empty() && arg[0] != '-') {
-      world_file = arg;
-    } else {
-      usage();
-      return 2;
-    }
-  }
-  if (world_file.empty()) {
-    usage();
-    return 2;
-  }
+  auto app = troupe::cli::make_app(
+      "troupe-robocup",
+      {"troupe-robocup WORLD [--seconds S] [--seed N] [--script FILE] [--interactive]\n"
+       "                     [--plugin-path DIR]... [--profile] [--quiet]",
+       "Runs a RoboCup F2000 world: the field, ball, robots and their plugins, and the\n"
+       "referee. Without a script it runs as fast as it can and prints the referee's\n"
+       "events and the final score. To serve a match over the wire (real time, the\n"
+       "browser viewer, clients driving robots), run it with troupe-sim instead.\n",
+       {"troupe-robocup examples/robocup/match.world --seconds 120 --seed 4",
+        "troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit"}});
+  app->add_option("WORLD", world_file, "the world file")->required();
+  app->add_option("--seconds", seconds, "simulated time to run, s (default: the referee's duration, else 60)")
+      ->type_name("S")
+      ->check(troupe::cli::at_least(0));
+  auto* seed_given =
+      app->add_option("--seed", seed, "seed of every random number in the run (default: the world's)")
+          ->type_name("N")
+          ->check(troupe::cli::at_least(0));
+  app->add_option("--script", script,
+                  "run console commands from FILE (run 10, start ROBOT PLUGIN, score, ...)")
+      ->type_name("FILE");
+  app->add_flag("--interactive", interactive, "run console commands typed on standard input");
+  app->add_option("--plugin-path", plugin_path, "look for plugins in folder D first (repeatable)")
+      ->type_name("D");
+  app->add_flag("--profile", profile, "print the mean time per cycle of each phase at the end");
+  app->add_flag("--quiet", quiet, "no event lines, only the final score");
+  // Serving a match is troupe-sim's: --serve (hidden) answers with the command that does it.
+  bool serve = false;
+  app->add_flag("--serve", serve)->group("");
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  if (serve)
+    return troupe::cli::usage_error(*app,
+                                    "to serve a match, run it with troupe-sim: troupe-sim " + world_file);
   WorldSpec spec;
   std::string error;
   if (!load_world_file(world_file, spec, error)) {
     fprintf(stderr, "troupe-robocup: %s\n", error.c_str());
     return 2;
   }
-  if (seed >= 0) spec.seed = uint64_t(seed);
+  if (seed_given->count() > 0) spec.seed = seed;
   PluginLoader loader(troupe::plugin::search_path(plugin_path, folder_of(world_file)));
   std::unique_ptr<Simulation> sim = Simulation::create(std::move(spec), std::move(loader), error);
   if (!sim) {

@@ -16,12 +16,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <fstream>
 
 #include "drivers/common_desktop/mcl_eval.h"
 #include "tests/desktop/synthetic_world.h"
+#include "wire/cli/args.h"
 
 using namespace troupe::desktop;
 
@@ -232,14 +231,14 @@ void cave_table(int seeds) {
 
 int main(int argc, char** argv) {
   int seeds = 5;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) {
-      seeds = std::max(1, std::atoi(argv[++i]));
-    } else {
-      std::fprintf(stderr, "usage: bench_mcl_accuracy [--seeds N]\n");
-      return 2;
-    }
-  }
+  auto app =
+      troupe::cli::make_app("bench_mcl_accuracy", {"bench_mcl_accuracy [--seeds N]",
+                                                   "MCL accuracy tables: the ACES log, and the cave world.\n",
+                                                   {"bench_mcl_accuracy --seeds 3"}});
+  app->add_option("--seeds", seeds, "runs per table, seeds 1..N (default 5)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   aces_table(seeds);
   cave_table(seeds);
   return 0;

@@ -27,6 +27,7 @@
 #include "drivers/common_desktop/particle_filter.h"
 #include "host-sim/sim/controller_host.h"
 #include "host-sim/sim/world.h"
+#include "wire/cli/args.h"
 
 using namespace troupe;
 using desktop::kPi;
@@ -219,26 +220,31 @@ void table(const Scene& scene, int seeds, double seconds) {
 int main(int argc, char** argv) {
   int seeds = 5;
   double seconds = 120;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--seeds") == 0 && i + 1 < argc) {
-      seeds = std::max(1, std::atoi(argv[++i]));
-    } else if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
-      seconds = std::max(1.0, std::atof(argv[++i]));
-    } else if (std::strcmp(argv[i], "--odom-error") == 0 && i + 1 < argc) {
-      odom_error = std::max(0.0, std::atof(argv[++i]));
-    } else if (std::strcmp(argv[i], "--motion-noise") == 0 && i + 1 < argc) {
-      motion_noise = std::max(0.0, std::atof(argv[++i]));
-    } else if (std::strcmp(argv[i], "--surface-field") == 0) {
-      surface_field = true;
-    } else if (std::strcmp(argv[i], "--sigma-hit") == 0 && i + 1 < argc) {
-      sigma_hit = std::atof(argv[++i]);
-    } else {
-      std::fprintf(stderr,
-                   "usage: bench_mcl_sim [--seeds N] [--seconds S] [--odom-error E] [--motion-noise A] "
-                   "[--sigma-hit M] [--surface-field]\n");
-      return 2;
-    }
-  }
+  auto app = troupe::cli::make_app("bench_mcl_sim",
+                                   {"bench_mcl_sim [--seeds N] [--seconds S] [--odom-error E] "
+                                    "[--motion-noise A] [--sigma-hit M] [--surface-field]",
+                                    "MCL accuracy on troupe-sim's engine (laser, odometry error, wander\n"
+                                    "controller): tables for the Stage cave and the office world.\n",
+                                    {"bench_mcl_sim --seeds 3 --seconds 60"}});
+  app->add_option("--seeds", seeds, "runs per world, seeds 1..N (default 5)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
+  app->add_option("--seconds", seconds, "simulated time per run, s (default 120)")
+      ->type_name("S")
+      ->check(troupe::cli::at_least(1));
+  app->add_option("--odom-error", odom_error, "the robots' odom_error, each axis (default 0.05)")
+      ->type_name("E")
+      ->check(troupe::cli::at_least(0));
+  app->add_option("--motion-noise", motion_noise,
+                  "all four alphas of the filter's motion noise (default: the driver's)")
+      ->type_name("A")
+      ->check(troupe::cli::at_least(0));
+  app->add_option("--sigma-hit", sigma_hit, "the filter's sigma_hit, m (default: the driver's)")
+      ->type_name("M")
+      ->check(troupe::cli::above(0));
+  app->add_flag("--surface-field", surface_field,
+                "the filter's surface likelihood field instead of the classic one");
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   std::error_code ec;
   std::string dir = (std::filesystem::temp_directory_path(ec) / "bench-mcl-sim-XXXXXX").string();
   if (mkdtemp(dir.data()) == nullptr) return 1;

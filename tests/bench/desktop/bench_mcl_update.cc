@@ -9,11 +9,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 
 #include "drivers/common_desktop/particle_filter.h"
 #include "tests/desktop/synthetic_world.h"
+#include "wire/cli/args.h"
 
 using namespace troupe::desktop;
 
@@ -55,14 +54,14 @@ double time_update(const OccupancyGrid& map, size_t particles, size_t beams, int
 
 int main(int argc, char** argv) {
   int repeats = 21;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
-      repeats = std::max(1, std::atoi(argv[++i]));
-    } else {
-      std::fprintf(stderr, "usage: bench_mcl_update [--repeats N]\n");
-      return 2;
-    }
-  }
+  auto app =
+      troupe::cli::make_app("bench_mcl_update", {"bench_mcl_update [--repeats N]",
+                                                 "MCL update time per scan, particles x beams (medians).\n",
+                                                 {"bench_mcl_update --repeats 5"}});
+  app->add_option("--repeats", repeats, "timed updates per cell; the median is reported (default 21)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(1));
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   OccupancyGrid map = testing::make_test_map();
   const size_t counts[] = {100, 300, 1000, 3000, 10000};
   const size_t beams[] = {60, 120, 180, 360};

@@ -7,13 +7,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "tests/support/child_process.h"
+#include "wire/cli/args.h"
 #include "wire/client/client.h"
 
 using namespace troupe;
@@ -63,16 +62,18 @@ double round_trip_us(uint16_t port, uint16_t index, int n) {
 
 int main(int argc, char** argv) {
   int requests = 2000, repeats = 5;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--requests") == 0 && i + 1 < argc) {
-      requests = std::max(10, std::atoi(argv[++i]));
-    } else if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
-      repeats = std::max(1, std::atoi(argv[++i]));
-    } else {
-      std::fprintf(stderr, "usage: bench_passthrough [--requests N] [--repeats R]\n");
-      return 2;
-    }
-  }
+  auto app = troupe::cli::make_app("bench_passthrough",
+                                   {"bench_passthrough [--requests N] [--repeats R]",
+                                    "Request round trips straight to a troupe-node and through one and two\n"
+                                    "passthrough hops (real processes); medians.\n",
+                                    {"bench_passthrough --requests 500 --repeats 3"}});
+  app->add_option("--requests", requests, "requests per run (default 2000)")
+      ->type_name("N")
+      ->check(troupe::cli::at_least(10));
+  app->add_option("--repeats", repeats, "runs per row; the median is reported (default 5)")
+      ->type_name("R")
+      ->check(troupe::cli::at_least(1));
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   std::string dir = testing::make_temp_dir("bench-passthrough-");
   if (dir.empty()) return 1;
   testing::ChildProcess robot, hop1, hop2;

@@ -22,6 +22,7 @@
 #include "tests/ros2/dds_env.h"
 #include "tests/ros2/fastdds_peer.h"
 #include "tests/support/child_process.h"
+#include "wire/cli/args.h"
 #include "wire/client/client.h"
 
 namespace {
@@ -75,15 +76,19 @@ Stats stats(std::vector<double> v) {
 int main(int argc, char** argv) {
   double seconds = 10, rate = 100;
   int repeats = 3;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i];
-    if (a == "--seconds")
-      seconds = std::atof(argv[i + 1]);
-    else if (a == "--repeats")
-      repeats = std::atoi(argv[i + 1]);
-    else if (a == "--rate")
-      rate = std::atof(argv[i + 1]);
-  }
+  auto app = troupe::cli::make_app(
+      "bench_ros2_latency", {"bench_ros2_latency [--seconds S] [--repeats N] [--rate HZ]",
+                             "What troupe-ros2 adds to a sample's way, against a Troupe client reading\n"
+                             "the same samples; medians over the repeats.\n",
+                             {"bench_ros2_latency --seconds 5 --repeats 3"}});
+  app->add_option("--seconds", seconds, "length of one run, s (default 10)")
+      ->type_name("S")
+      ->check(troupe::cli::above(0));
+  app->add_option("--repeats", repeats, "runs (default 3)")->type_name("N")->check(troupe::cli::at_least(1));
+  app->add_option("--rate", rate, "the odometry's rate, Hz (default 100)")
+      ->type_name("HZ")
+      ->check(troupe::cli::above(0));
+  if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   testing::ros2::DdsDomain domain;
   const std::string dir = testing::make_temp_dir("bench-ros2-latency");
   if (domain.id() < 0 || dir.empty()) return 1;
