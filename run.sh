@@ -32,8 +32,26 @@ install_packages() {
   local sudo=""
   [ "$(id -u)" -ne 0 ] && sudo="sudo"
   say "installing ${missing[*]}"
-  $sudo apt-get update
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+  # A Debian mirror caught mid-sync serves an index whose size does not match
+  # its Release file ("Mirror sync in progress?"), and apt-get update then
+  # fails as a whole. That heals within minutes: retry with growing pauses, and
+  # if one foreign architecture's index still fails, go on with the indexes
+  # that did arrive (the install below says clearly if a package is missing).
+  local pause
+  for pause in 15 45 90 180 0; do
+    $sudo apt-get -o Acquire::Retries=3 update && break
+    [ "$pause" -eq 0 ] && { echo "apt-get update kept failing; trying the install with the indexes there are" >&2; break; }
+    echo "apt-get update failed; trying again in $pause s" >&2
+    sleep "$pause"
+  done
+  for pause in 30 90 0; do
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get -o Acquire::Retries=3 install -y \
+      --no-install-recommends "${missing[@]}" && return 0
+    [ "$pause" -eq 0 ] && return 1
+    echo "apt-get install failed; refreshing the indexes and trying again in $pause s" >&2
+    sleep "$pause"
+    $sudo apt-get -o Acquire::Retries=3 update || true
+  done
 }
 
 # The viewer's page is built with npm (packages from the npm registry, into
