@@ -34,11 +34,13 @@ install_packages() {
   say "installing ${missing[*]}"
   # A Debian mirror caught mid-sync serves an index whose size does not match
   # its Release file ("Mirror sync in progress?"), and apt-get update then
-  # fails as a whole. That heals within minutes: retry with growing pauses, and
-  # if one foreign architecture's index still fails, go on with the indexes
-  # that did arrive (the install below says clearly if a package is missing).
+  # fails as a whole. That usually heals within minutes: retry with growing
+  # pauses. An index that stays broken (seen for days: bookworm-security's
+  # armhf list, which the cross tests' sysroots add) must not stop the
+  # install: go on with the indexes that did arrive (apt-get install says
+  # clearly if a package is then missing).
   local pause
-  for pause in 15 45 90 180 0; do
+  for pause in 15 45 120 0; do
     $sudo apt-get -o Acquire::Retries=3 update && break
     [ "$pause" -eq 0 ] && { echo "apt-get update kept failing; trying the install with the indexes there are" >&2; break; }
     echo "apt-get update failed; trying again in $pause s" >&2

@@ -42,7 +42,8 @@ class Node final : public TimerHandler {
     /// long after connecting is closed, ms (0: never).
     uint32_t hello_timeout_ms = 5000;
     /// A connection that reads no device and has sent nothing for this long
-    /// is closed, ms (0: never). Readers are exempt: data flows to them.
+    /// is closed, ms (0: never); so is a reader whose socket has taken no
+    /// data for this long (it stopped reading).
     uint32_t idle_timeout_ms = 60000;
     /// Replies and other reliable frames queued for a client that is not
     /// reading, bytes. A client over it is disconnected. Data never queues:

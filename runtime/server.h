@@ -89,6 +89,12 @@ class Server final : public FdHandler, public TimerHandler {
     uint32_t max_frame = 0;  // the client's Hello.max_frame_bytes (0: not said)
     uint64_t connected_us = 0;  // event loop clock
     uint64_t heard_us = 0;      // last valid frame; 0: none yet
+    // Whether the peer reads: bytes handed to the socket, those of them the
+    // peer has acknowledged (last look), and since when it has taken none of
+    // what waits for it (event loop clock; 0: nothing waits).
+    uint64_t written = 0;
+    uint64_t taken = 0;
+    uint64_t stalled_us = 0;
   };
 
   /// One listening socket with its UDP data socket; `localhost` has two.
@@ -112,14 +118,19 @@ class Server final : public FdHandler, public TimerHandler {
   /// False when the connection was closed (refused or failed).
   bool open_secure(uint32_t index, std::span<const uint8_t> bytes);
   void want_write(uint32_t index, bool on);
+  /// Updates `c.stalled_us` from what the peer has acknowledged since the
+  /// last look.
+  void check_progress(Client& c, uint64_t now);
   void close_client(uint32_t index);
   void handle_hello(uint32_t index, const wire::Message& msg);
   uint32_t index_of_fd(int fd) const;
   /// A slot for a connection from `peer`: a free one, or one taken from a
-  /// connection being closed or silent since it connected. UINT32_MAX when
-  /// every slot (or every slot of this address) serves a client.
+  /// connection being closed, silent since it connected, or not reading its
+  /// data. UINT32_MAX when every slot (or every slot of this address) serves
+  /// a client.
   uint32_t slot_for(const sockaddr_storage& peer);
-  /// Closes connections past their Hello or idle deadline.
+  /// Closes connections past their Hello or idle deadline, and readers
+  /// that took no data for the idle deadline.
   void sweep();
   /// A reply too large for the client's announced frame limit becomes a
   /// Nack TooLarge; data that large is not sent to it.

@@ -11,8 +11,9 @@ namespace troupe::attack {
 namespace {
 
 constexpr int kReplyMs = 10000;  // bounds a hung target, not a requirement
-// A client locked out by idle connections tries again for this long: the
-// server's idle timeout and Hello deadline must free a slot within it.
+// A client locked out by idle connections or readers that do not read tries
+// again for this long: the server's idle timeout, Hello deadline and the
+// eviction of stalled readers must free a slot within it.
 constexpr int kLockoutMs = 45000;
 
 // The device that publishes the most: what a slow reader opens.
@@ -64,9 +65,9 @@ void slow_readers(Target& t, int scale, Outcome& out) {
     }
   }
   // Data piles up for the readers meanwhile (the targets publish at 10 to
-  // 100 Hz).
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  legit_served_now(t, out, kReplyMs);
+  // 100 Hz). A reader gives up its slot once its socket has stopped taking
+  // data, which at 10 Hz takes seconds: the same bound as for idle ones.
+  legit_served_now(t, out, kLockoutMs);
 }
 
 void connection_churn(Target& t, int scale, Outcome& out) {

@@ -3,7 +3,10 @@
 // for good.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <filesystem>
 #include <memory>
+#include <thread>
 
 #include "tests/runtime/node_fixture.h"
 
@@ -24,6 +27,27 @@ std::vector<std::unique_ptr<RawConnection>> idle_connections(uint16_t port, int 
   }
   return out;
 }
+
+// A reader of the ranger's stream, through a 1 KiB receive buffer, that
+// stops reading once its Open is acknowledged.
+std::unique_ptr<RawConnection> stalled_reader(uint16_t port) {
+  auto r = std::make_unique<RawConnection>(port, 1024);
+  EXPECT_FALSE(r->read_until(Kind::Hello).empty());
+  EXPECT_TRUE(r->send_bytes(empty_frame(addr(Interface::Ranger), Kind::Open, 0, 1)));
+  EXPECT_FALSE(r->read_until(Kind::Ack).empty());
+  return r;
+}
+
+// Descriptors this process holds: the node runs in it, so a connection the
+// node closes shows here before its peer reads anything.
+size_t open_descriptors() {
+  return size_t(std::distance(std::filesystem::directory_iterator("/proc/self/fd"),
+                              std::filesystem::directory_iterator{}));
+}
+
+// Bounds a wait on the node's own clock (its sweep, the stall it measures);
+// not a requirement.
+constexpr auto kPatience = std::chrono::seconds(20);
 
 ErrorCode error_code(RawConnection& raw) {
   auto f = raw.read_until(Kind::Error);
@@ -65,6 +89,56 @@ TEST(ConnectionLimits, ClientsThatSpokeAreNeverEvicted) {
   EXPECT_TRUE(third.wait_closed());
   EXPECT_TRUE(a.sync());
   EXPECT_TRUE(b.sync());
+}
+
+// 800 readers that never read once took every slot of a node for as long as
+// they stayed connected: they had spoken, so they were never evicted.
+TEST(ConnectionLimits, AReaderThatStopsReadingGivesUpItsSlotAndOneThatSpokeKeepsIt) {
+  Node::Options o = test_options();
+  o.max_clients = 2;
+  o.hello_timeout_ms = 0;
+  NodeThread node(o);
+  auto* ranger = new Recorder;
+  node.add_device(Interface::Ranger, 0, ranger);
+  node.start();
+  ranger->stream(1);
+  auto stalled = stalled_reader(node.port());
+  client::Client spoke("127.0.0.1", node.port());
+  ASSERT_TRUE(spoke.connect()) << spoke.error();
+  // Refused while the reader's socket still takes data, let in once it has
+  // taken nothing for a while: the node measures that, the test only waits.
+  client::Client late("127.0.0.1", node.port());
+  const auto give_up = std::chrono::steady_clock::now() + kPatience;
+  bool in = false;
+  while (!(in = late.connect()) && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(in) << late.error();
+  EXPECT_TRUE(stalled->wait_closed()) << "the stalled reader kept its slot";
+  EXPECT_TRUE(spoke.sync()) << "a client that spoke and had nothing to read was evicted";
+  EXPECT_TRUE(late.sync());
+  ranger->stream(0);
+}
+
+TEST(ConnectionLimits, AReaderThatTakesNoDataIsClosedAtTheIdleDeadline) {
+  Node::Options o = test_options();
+  o.idle_timeout_ms = 300;
+  NodeThread node(o);
+  auto* ranger = new Recorder;
+  node.add_device(Interface::Ranger, 0, ranger);
+  node.start();
+  ranger->stream(1);
+  const size_t before = open_descriptors();
+  auto stalled = stalled_reader(node.port());
+  ASSERT_EQ(open_descriptors(), before + 2);  // both ends
+  // Not a byte read meanwhile: reading would end the stall.
+  const auto give_up = std::chrono::steady_clock::now() + kPatience;
+  while (open_descriptors() > before + 1 && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(open_descriptors(), before + 1) << "the node kept a reader that took no data";
+  EXPECT_TRUE(stalled->wait_closed());
+  ranger->stream(0);
 }
 
 TEST(ConnectionLimits, ASilentConnectionIsClosedAtTheHelloDeadline) {
