@@ -9,12 +9,12 @@
 #include <cstdlib>
 
 #include "host-sim/robocup/game/simulation.h"
+#include "tests/support/build_tree.h"
 
 using namespace troupe::robocup;
 
 namespace {
 
-const std::string kPlugins = TROUPE_BINARY_DIR "/lib/troupe";
 const std::string kMatch = TROUPE_SOURCE_DIR "/examples/robocup/match.world";
 
 struct Scene {
@@ -35,7 +35,7 @@ double run_once(const Scene& scene, double seconds) {
     if (!scene.sensors) r.spec.sensors.clear();
   }
   spec.referee.duration_s = 0;
-  auto sim = Simulation::create(std::move(spec), PluginLoader({kPlugins}), error);
+  auto sim = Simulation::create(std::move(spec), PluginLoader({troupe::testing::kPluginDir}), error);
   if (!sim) {
     fprintf(stderr, "%s\n", error.c_str());
     exit(1);

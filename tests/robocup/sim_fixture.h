@@ -9,10 +9,11 @@
 #include <string>
 
 #include "host-sim/robocup/game/simulation.h"
+#include "tests/support/build_tree.h"
 
 namespace troupe::robocup::test {
 
-inline const std::string kPluginDir = TROUPE_BINARY_DIR "/lib/troupe";
+using troupe::testing::kPluginDir;
 inline const std::string kBadPluginDir = TROUPE_BINARY_DIR "/tests/robocup/bad_plugins";
 
 /// A world spec from Stage world text (files it names are relative to the

@@ -9,13 +9,14 @@
 #include "host-sim/sim/controller_host.h"
 #include "tests/sim/scenes.h"
 #include "tests/sim/temp_dir.h"
+#include "tests/support/build_tree.h"
 
 namespace troupe::sim {
 namespace {
 
 ControllerHost::Options options(bool ignore_missing = false) {
   ControllerHost::Options o;
-  o.search_path = {TROUPE_BINARY_DIR "/lib/troupe"};
+  o.search_path = {testing::kPluginDir};
   o.ignore_missing = ignore_missing;
   return o;
 }

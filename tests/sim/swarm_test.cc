@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "host-sim/troupe_sim/runner.h"
+#include "tests/support/build_tree.h"
 #include "tests/support/child_process.h"
 
 namespace troupe::sim {
@@ -18,7 +19,6 @@ namespace {
 const std::string kWorld = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
 // The build's controller plugins: a test program does not sit in bin/, so
 // the loader's "../lib/troupe beside the program" does not reach them.
-const std::string kPlugins = TROUPE_BINARY_DIR "/lib/troupe";
 
 // Mean distance from each robot to its nearest neighbour, m.
 double mean_distance(const World& w) {
@@ -39,7 +39,7 @@ TEST(Swarm100, AggregatesWithInProcessControllers) {
   SimOptions o;
   o.world = kWorld;
   o.fast = true;
-  o.plugin_path = {kPlugins};
+  o.plugin_path = {testing::kPluginDir};
   o.quit_time = 60;
   o.serve = false;
   Runner runner;
@@ -66,7 +66,7 @@ TEST(Swarm100, AggregatesDrivenByOneClientPerRobot) {
   o.world = kWorld;
   o.port = 0;
   o.no_ctrl = true;
-  o.plugin_path = {kPlugins};
+  o.plugin_path = {testing::kPluginDir};
   o.speed = 4;  // four times real time: 8 s of wall time are 32 s simulated
   Runner runner;
   world::Diagnostics d;
@@ -125,7 +125,7 @@ bot ( name "d" pose [ -2 2 0 270 ] )
     SimOptions o;
     o.world = world;
     o.fast = true;
-    o.plugin_path = {kPlugins};
+    o.plugin_path = {testing::kPluginDir};
     o.quit_time = 60;
     o.serve = false;
     o.seed = seed;

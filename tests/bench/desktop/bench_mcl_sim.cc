@@ -27,6 +27,7 @@
 #include "drivers/common_desktop/particle_filter.h"
 #include "host-sim/sim/controller_host.h"
 #include "host-sim/sim/world.h"
+#include "tests/support/build_tree.h"
 #include "wire/cli/args.h"
 
 using namespace troupe;
@@ -99,7 +100,7 @@ Run run(const Scene& scene, const desktop::OccupancyGrid& map, uint64_t seed, bo
   std::unique_ptr<sim::World> w = sim::World::load(scene.world_path, seed, diags);
   sim::ControllerHost host;
   sim::ControllerHost::Options copt;
-  copt.search_path = {std::string(TROUPE_BINARY_DIR) + "/lib/troupe"};
+  copt.search_path = {troupe::testing::kPluginDir};
   if (!w || !host.load(*w, copt, diags)) {
     std::fprintf(stderr, "%s: cannot load:\n%s\n", scene.world_path.c_str(), diags.str().c_str());
     std::exit(1);
