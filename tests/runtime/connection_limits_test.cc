@@ -28,6 +28,19 @@ std::vector<std::unique_ptr<RawConnection>> idle_connections(uint16_t port, int 
   return out;
 }
 
+// A node whose ranger publishes a 181-beam scan every millisecond.
+struct StreamingRanger {
+  explicit StreamingRanger(const Node::Options& options) : node(options), ranger(new Recorder) {
+    node.add_device(Interface::Ranger, 0, ranger);
+    node.start();
+    ranger->stream(1);
+  }
+  ~StreamingRanger() { ranger->stream(0); }
+  uint16_t port() const { return node.port(); }
+  NodeThread node;
+  Recorder* ranger;  // owned by the node
+};
+
 // A reader of the ranger's stream, through a 1 KiB receive buffer, that
 // stops reading once its Open is acknowledged.
 std::unique_ptr<RawConnection> stalled_reader(uint16_t port) {
@@ -97,11 +110,7 @@ TEST(ConnectionLimits, AReaderThatStopsReadingGivesUpItsSlotAndOneThatSpokeKeeps
   Node::Options o = test_options();
   o.max_clients = 2;
   o.hello_timeout_ms = 0;
-  NodeThread node(o);
-  auto* ranger = new Recorder;
-  node.add_device(Interface::Ranger, 0, ranger);
-  node.start();
-  ranger->stream(1);
+  StreamingRanger node(o);
   auto stalled = stalled_reader(node.port());
   client::Client spoke("127.0.0.1", node.port());
   ASSERT_TRUE(spoke.connect()) << spoke.error();
@@ -117,17 +126,12 @@ TEST(ConnectionLimits, AReaderThatStopsReadingGivesUpItsSlotAndOneThatSpokeKeeps
   EXPECT_TRUE(stalled->wait_closed()) << "the stalled reader kept its slot";
   EXPECT_TRUE(spoke.sync()) << "a client that spoke and had nothing to read was evicted";
   EXPECT_TRUE(late.sync());
-  ranger->stream(0);
 }
 
 TEST(ConnectionLimits, AReaderThatTakesNoDataIsClosedAtTheIdleDeadline) {
   Node::Options o = test_options();
   o.idle_timeout_ms = 300;
-  NodeThread node(o);
-  auto* ranger = new Recorder;
-  node.add_device(Interface::Ranger, 0, ranger);
-  node.start();
-  ranger->stream(1);
+  StreamingRanger node(o);
   const size_t before = open_descriptors();
   auto stalled = stalled_reader(node.port());
   ASSERT_EQ(open_descriptors(), before + 2);  // both ends
@@ -138,7 +142,6 @@ TEST(ConnectionLimits, AReaderThatTakesNoDataIsClosedAtTheIdleDeadline) {
   }
   EXPECT_EQ(open_descriptors(), before + 1) << "the node kept a reader that took no data";
   EXPECT_TRUE(stalled->wait_closed());
-  ranger->stream(0);
 }
 
 TEST(ConnectionLimits, ASilentConnectionIsClosedAtTheHelloDeadline) {
