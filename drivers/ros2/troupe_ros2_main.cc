@@ -200,6 +200,12 @@ int main(int argc, char** argv) {
     while (true) {
       troupe::client::Client client(host, s.port, co);
       if (client.connect(2000) && client.device_list(devices)) break;
+      // A config is printed for a node that is there now: a one-shot
+      // command that waited for ever would look hung.
+      if (print_config) {
+        troupe::log_error("cannot read the devices of %s:%u: %s", host.c_str(), s.port, client.error().c_str());
+        return 1;
+      }
       if (!waiting_said)
         troupe::log_info("waiting for %s:%u (%s)", host.c_str(), s.port, client.error().c_str());
       waiting_said = true;

@@ -14,6 +14,24 @@ namespace {
 using namespace troupe::testing;
 using namespace troupe::testing::ros2;
 
+// --print-config is a one-shot command: it prints the config of a node that
+// is there, and fails at once, saying why, for one that is not.
+TEST_F(BridgeTest, PrintConfigPrintsTheBridgeOfANodeAndFailsForAnAbsentOne) {
+  start_sim("room.world");
+  ASSERT_FALSE(HasFatalFailure());
+  ProgramResult there = run_to_end({kBin + "/troupe-ros2", "127.0.0.1:" + std::to_string(sim_port_), "--print-config"},
+                                   kWaitMs);
+  EXPECT_EQ(there.status, 0) << there.err;
+  EXPECT_NE(there.out.find("\"driver_type\": \"ros2\""), std::string::npos) << there.out;
+  const uint16_t nobody = free_port();
+  ProgramResult absent =
+      run_to_end({kBin + "/troupe-ros2", "127.0.0.1:" + std::to_string(nobody), "--print-config"}, kWaitMs);
+  EXPECT_EQ(absent.status, 1) << absent.out << absent.err;
+  EXPECT_NE(absent.err.find("cannot read the devices of 127.0.0.1:" + std::to_string(nobody)), std::string::npos)
+      << absent.err;
+  EXPECT_TRUE(absent.out.empty()) << absent.out;
+}
+
 TEST_F(BridgeTest, ScanAndOdometryReachAFastDdsSubscriberAsTheSimulatorSentThem) {
   start_sim("room.world");
   start_bridge();
