@@ -2,12 +2,10 @@
 
 #include <arpa/inet.h>
 #include <fcntl.h>
-#include <linux/sockios.h>  // SIOCOUTQ
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/epoll.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,10 +30,6 @@ constexpr size_t kMaxDatagram = 65507;
 // Room kept for the tail of a data frame the socket took only part of; a
 // larger frame grows it once.
 constexpr size_t kPartialReserve = 4096;
-// A connection whose peer has taken none of the bytes waiting for it for
-// this long is not reading: when every slot is taken, a new connection may
-// have its slot. It is still served until then (a link may be down a while).
-constexpr uint64_t kStalledUs = 1'000'000;
 
 bool set_nonblocking(int fd) {
   int flags = fcntl(fd, F_GETFL, 0);
@@ -53,25 +47,14 @@ std::span<const uint8_t> error_frame(wire::MessageWriter& w, const wire::Header*
   return w.finish(h, wire::Body::Error, body.Union());
 }
 
-// Says why on a socket about to be closed at once: it is fresh or idle, so
-// this small write fits.
-void send_error_now(int fd, wire::ErrorCode code, std::string_view text, uint64_t now_us) {
-  wire::MessageWriter w(256);
-  auto frame = error_frame(w, nullptr, code, text, now_us);
-  (void)!send(fd, frame.data(), frame.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-}
-
-bool same_host(const sockaddr_storage& a, const sockaddr_storage& b) {
-  if (a.ss_family != b.ss_family) return false;
-  if (a.ss_family == AF_INET6) {
-    return memcmp(&reinterpret_cast<const sockaddr_in6&>(a).sin6_addr,
-                  &reinterpret_cast<const sockaddr_in6&>(b).sin6_addr, sizeof(in6_addr)) == 0;
-  }
-  return reinterpret_cast<const sockaddr_in&>(a).sin_addr.s_addr ==
-         reinterpret_cast<const sockaddr_in&>(b).sin_addr.s_addr;
-}
 
 }  // namespace
+
+void Server::send_error_now(int fd, wire::ErrorCode code, std::string_view text) {
+  wire::MessageWriter w(256);
+  auto frame = error_frame(w, nullptr, code, text, node_.now_us());
+  (void)!send(fd, frame.data(), frame.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+}
 
 Server::Server(Node& node) : node_(node), clients_(node.options().max_clients) {}
 
@@ -216,13 +199,7 @@ bool Server::start(std::string& error) {
     }
   }
   for (int i = 0; i < listener_count_; ++i) node_.loop().watch(listeners_[i].tcp, EPOLLIN, this);
-  // Deadlines are checked a few times per the shortest one (the stall that
-  // frees a slot included): a connection is closed at most a quarter late.
-  uint64_t shortest_us = kStalledUs;
-  for (uint32_t t : {opt.hello_timeout_ms, opt.idle_timeout_ms}) {
-    if (t != 0) shortest_us = std::min<uint64_t>(shortest_us, uint64_t(t) * 1000);
-  }
-  const uint64_t period_us = std::max<uint64_t>(shortest_us / 4, 10'000);
+  const uint64_t period_us = sweep_period_us();
   sweep_ = node_.loop().start_timer(period_us, period_us, this);
   return true;
 }
@@ -281,7 +258,7 @@ void Server::accept_clients(int listen_fd) {
     if (index == UINT32_MAX) {
       char text[64];
       snprintf(text, sizeof text, "too many clients (limit %zu)", clients_.size());
-      send_error_now(fd, wire::ErrorCode::Denied, text, node_.now_us());
+      send_error_now(fd, wire::ErrorCode::Denied, text);
       log_warn("refused a client: %s", text);
       close(fd);
       continue;
@@ -314,83 +291,6 @@ void Server::accept_clients(int listen_fd) {
     }
     log_debug("client %u connected (fd %d)", index, fd);
     node_.send_hello(index);
-  }
-}
-
-uint32_t Server::slot_for(const sockaddr_storage& peer) {
-  const uint16_t per_address = node_.options().max_clients_per_address;
-  uint32_t free_slot = UINT32_MAX, from_address = 0;
-  for (uint32_t i = 0; i < clients_.size(); ++i) {
-    if (clients_[i].state == State::Free) {
-      if (free_slot == UINT32_MAX) free_slot = i;
-    } else {
-      from_address += same_host(clients_[i].peer, peer);
-    }
-  }
-  const bool address_full = per_address != 0 && from_address >= per_address;
-  if (free_slot != UINT32_MAX && !address_full) return free_slot;
-  // Full: a connection being closed gives up its slot, else the oldest that
-  // has not said anything, else the one whose peer has taken nothing of
-  // what waits for it for longest (one of this address when that is what is
-  // full). A client
-  // that spoke and reads its data, or has none to read, is never evicted.
-  const uint64_t now = node_.loop().now_us();
-  for (Client& c : clients_) check_progress(c, now);
-  enum Rank { Closing, Silent, Stalled, Kept };
-  auto rank = [&](const Client& c) {
-    if (c.state == State::Draining) return Closing;
-    if (c.heard_us == 0) return Silent;
-    if (c.stalled_us != 0 && now - c.stalled_us >= kStalledUs) return Stalled;
-    return Kept;
-  };
-  // Within a rank, the one waiting longest: since it connected, or since its
-  // peer last took bytes.
-  auto since = [&](const Client& c) { return rank(c) == Stalled ? c.stalled_us : c.connected_us; };
-  uint32_t victim = UINT32_MAX;
-  for (uint32_t i = 0; i < clients_.size(); ++i) {
-    const Client& c = clients_[i];
-    if (c.state == State::Free || rank(c) == Kept) continue;
-    if (address_full && !same_host(c.peer, peer)) continue;
-    if (victim == UINT32_MAX || rank(c) < rank(clients_[victim]) ||
-        (rank(c) == rank(clients_[victim]) && since(c) < since(clients_[victim]))) {
-      victim = i;
-    }
-  }
-  if (victim == UINT32_MAX) return UINT32_MAX;
-  if (const Rank r = rank(clients_[victim]); r != Closing) {
-    // Straight to the socket, best effort: a stalled reader's is full, and
-    // the slot is needed now, not after a linger.
-    send_error_now(clients_[victim].fd, wire::ErrorCode::Timeout,
-                   r == Silent ? "closed for a new client: this connection had sent nothing"
-                               : "closed for a new client: this connection had read nothing it was sent for a second",
-                   node_.now_us());
-  }
-  log_info("client %u closed to make room for a new connection", victim);
-  close_client(victim);
-  return victim;
-}
-
-void Server::sweep() {
-  const Node::Options& opt = node_.options();
-  const uint64_t now = node_.loop().now_us();
-  for (uint32_t i = 0; i < clients_.size(); ++i) {
-    Client& c = clients_[i];
-    if (c.state != State::Open) continue;
-    check_progress(c, now);
-    char text[80];
-    if (c.heard_us == 0 && opt.hello_timeout_ms != 0 && now - c.connected_us > uint64_t(opt.hello_timeout_ms) * 1000) {
-      snprintf(text, sizeof text, "no Hello (no valid frame) within %u ms of connecting", opt.hello_timeout_ms);
-    } else if (c.heard_us != 0 && c.opened.empty() && opt.idle_timeout_ms != 0 &&
-               now - c.heard_us > uint64_t(opt.idle_timeout_ms) * 1000) {
-      snprintf(text, sizeof text, "silent for %u ms with no device open", opt.idle_timeout_ms);
-    } else if (c.stalled_us != 0 && opt.idle_timeout_ms != 0 &&
-               now - c.stalled_us > uint64_t(opt.idle_timeout_ms) * 1000) {
-      snprintf(text, sizeof text, "not reading: the connection took no data for %u ms", opt.idle_timeout_ms);
-    } else {
-      continue;
-    }
-    log_info("client %u: %s; closing", i, text);
-    close_with_error(i, wire::ErrorCode::Timeout, text);
   }
 }
 
@@ -516,25 +416,6 @@ long Server::write_some(Client& c, std::span<const uint8_t> bytes) {
   }
   c.written += done;
   return long(done);
-}
-
-void Server::check_progress(Client& c, uint64_t now) {
-  if (c.fd < 0 || c.state == State::Free) return;
-  // What the peer has not acknowledged yet is still in our socket: bytes
-  // handed to it minus those are what the peer has taken. The kernel's send
-  // buffer grows to megabytes on a fast link, so a peer that stops reading a
-  // 10 Hz stream would take minutes to make our own writes fail; its
-  // acknowledgements stop at once, when its receive buffer is full.
-  int in_socket = 0;
-  if (ioctl(c.fd, SIOCOUTQ, &in_socket) != 0) in_socket = 0;
-  const uint64_t taken = c.written - uint64_t(std::max(in_socket, 0));
-  const bool waiting = in_socket > 0 || c.writing;
-  if (!waiting) {
-    c.stalled_us = 0;
-  } else if (taken != c.taken || c.stalled_us == 0) {
-    c.stalled_us = now;  // took something (or just fell behind): counts from now
-  }
-  c.taken = taken;
 }
 
 void Server::want_write(uint32_t index, bool on) {

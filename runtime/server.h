@@ -22,6 +22,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "runtime/driver.h"
@@ -132,6 +133,11 @@ class Server final : public FdHandler, public TimerHandler {
   /// Closes connections past their Hello or idle deadline, and readers
   /// that took no data for the idle deadline.
   void sweep();
+  /// How often sweep() runs, us.
+  uint64_t sweep_period_us() const;
+  /// Says why on a socket about to be closed at once (best effort: a
+  /// stalled reader's socket has no room for it).
+  void send_error_now(int fd, wire::ErrorCode code, std::string_view text);
   /// A reply too large for the client's announced frame limit becomes a
   /// Nack TooLarge; data that large is not sent to it.
   bool refuse_oversized(uint32_t client, std::span<const uint8_t> frame);

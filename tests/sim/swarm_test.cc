@@ -17,8 +17,6 @@ namespace troupe::sim {
 namespace {
 
 const std::string kWorld = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
-// The build's controller plugins: a test program does not sit in bin/, so
-// the loader's "../lib/troupe beside the program" does not reach them.
 
 // Mean distance from each robot to its nearest neighbour, m.
 double mean_distance(const World& w) {

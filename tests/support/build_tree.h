@@ -8,7 +8,9 @@
 
 namespace troupe::testing {
 
-/// The folder this build puts loadable plugins in (an absolute path).
+/// The folder this build puts loadable plugins in (an absolute path). A
+/// test program does not sit in bin/, so the loaders' "../lib/troupe beside
+/// the program" does not reach them: tests name this folder.
 inline const std::string kPluginDir = TROUPE_BINARY_DIR "/lib/troupe";
 
 }  // namespace troupe::testing
