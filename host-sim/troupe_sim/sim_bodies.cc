@@ -38,10 +38,24 @@ SimPioneerBody::SimPioneerBody(World& world, RobotId robot)
   }
 }
 
-bool SimPioneerBody::move(double left, double right, double track, double, emulators::PioneerPose& pose) {
+double SimPioneerBody::observe(double, emulators::PioneerPose& pose) {
   if (reported_ && (pose.x != reported_->x || pose.y != reported_->y || pose.a != reported_->a)) {
     world_.set_odometry(robot_, {pose.x, pose.y, pose.a});
   }
+  const RobotState& s = world_.state(robot_);
+  pose = {s.odometry.x, s.odometry.y, s.odometry.a};
+  reported_ = pose;
+  const double now_s = world_.time();
+  if (!observed_s_ || now_s < *observed_s_) {
+    observed_s_ = now_s;  // the first look, or the world was reset
+    return 0;
+  }
+  const double moved_s = now_s - *observed_s_;
+  observed_s_ = now_s;
+  return moved_s;
+}
+
+bool SimPioneerBody::move(double left, double right, double track, double, emulators::PioneerPose&) {
   // The world integrates the motion at its own step; the emulator only sets
   // the wheels. A command is sent when the wheels change, so a client of
   // troupe-sim's own position2d device may still drive a robot at rest.
@@ -52,10 +66,7 @@ bool SimPioneerBody::move(double left, double right, double track, double, emula
     command_w_ = w;
     commanded_ = true;
   }
-  const RobotState& s = world_.state(robot_);
-  pose = {s.odometry.x, s.odometry.y, s.odometry.a};
-  reported_ = pose;
-  return s.stalled;
+  return world_.state(robot_).stalled;
 }
 
 void SimPioneerBody::sense(const emulators::PioneerPose&, const drivers::p2os::RobotParams&,

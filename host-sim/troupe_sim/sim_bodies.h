@@ -29,6 +29,9 @@ class SimPioneerBody final : public emulators::PioneerWorld {
   /// The robot's sonar ring and first bumper are kept computed from now on.
   SimPioneerBody(World& world, RobotId robot);
 
+  /// Once per world step: the odometry the step reached and the simulated
+  /// seconds it took.
+  double observe(double waited_s, emulators::PioneerPose& pose) override;
   bool move(double left_mps, double right_mps, double track_m, double dt_s,
             emulators::PioneerPose& pose) override;
   void sense(const emulators::PioneerPose& pose, const drivers::p2os::RobotParams& robot,
@@ -48,6 +51,7 @@ class SimPioneerBody final : public emulators::PioneerWorld {
   double command_v_ = 0, command_w_ = 0;
   bool commanded_ = false;
   std::optional<emulators::PioneerPose> reported_;
+  std::optional<double> observed_s_;  // world time at the last step observed, s
 };
 
 /// A SICK LMS200 that is a simulated laser: each requested bearing reads

@@ -111,18 +111,23 @@ TEST(SitlEmulation, PioneerBodyDrivesTheRobotAndReportsItsOdometry) {
   SimPioneerBody body(*world, 0);
   emulators::PioneerPose pose;
   const double track = 0.357;
+  // The emulator's controllers run once per world step, on the odometry
+  // that step reached: between steps there is nothing new to act on.
+  EXPECT_EQ(body.observe(0.004, pose), 0) << "the first look";
   // 0.3 m/s on both wheels for a simulated second.
   for (int i = 0; i < 10; ++i) {
     body.move(0.3, 0.3, track, 0.1, pose);
     world->step();
+    EXPECT_NEAR(body.observe(0.004, pose), 0.1, 1e-9) << "one world step of motion";
+    EXPECT_EQ(body.observe(0.004, pose), 0) << "no step since";
   }
-  body.move(0.3, 0.3, track, 0.1, pose);
   EXPECT_NEAR(world->state(0).pose.x, -1.5 + 0.3, 0.03);
   EXPECT_NEAR(pose.x, 0.3, 0.03) << "odometry from the start pose";
   EXPECT_DOUBLE_EQ(pose.x, world->state(0).odometry.x);
 
   // The firmware zeroes its odometry (SETO): the world's follows.
   pose = {};
+  EXPECT_EQ(body.observe(0.004, pose), 0);
   EXPECT_FALSE(body.move(0, 0, track, 0.1, pose));
   EXPECT_NEAR(world->state(0).odometry.x, 0, 1e-9);
   EXPECT_NEAR(pose.x, 0, 1e-9);

@@ -51,7 +51,7 @@ void PioneerEmulator::set_sim_laser(LaserWorld* laser) {
 void PioneerEmulator::power_cycle() {
   close_session();
   motion_.halt();
-  pose_ = {};
+  reset_odometry();
   baud_ = config_.baud;
   bump_stall_ = 0;
   polling_size_ = 0;
@@ -187,7 +187,7 @@ void PioneerEmulator::obey(std::span<const uint8_t> p) {
       return;
     }
     case Command::SetO:
-      pose_ = {};
+      reset_odometry();
       if (motion_.rot_mode() == PioneerMotion::Rot::Heading) motion_.set_heading(0);
       return;
     case Command::SetV:
@@ -216,7 +216,7 @@ void PioneerEmulator::obey(std::span<const uint8_t> p) {
     case Command::Move:
       if (!accepted()) return;
       motion_.move(value / 1000.0);
-      travelled_ = 0;
+      updated_at_ = pose_;  // what was driven before counts for nothing
       return;
     case Command::Head:
       if (accepted()) motion_.set_heading(value * kDegToRad);
@@ -270,19 +270,26 @@ void PioneerEmulator::move(double dt) {
   if (dt <= 0) return;
   const bool driving = session_ == Session::Open && motors_enabled_;
   if (!driving) motion_.halt();
-  const PioneerPose before = pose_;
-  motion_.update(dt, pose_.a, travelled_);
+  waited_s_ += dt;
+  const double moved_s = world_->observe(waited_s_, pose_);
+  if (moved_s <= 0) return;
+  waited_s_ = 0;
+  // A MOVE counts the distance the wheels really covered.
+  double travelled = std::hypot(pose_.x - updated_at_.x, pose_.y - updated_at_.y);
+  if (motion_.v() < 0) travelled = -travelled;
+  motion_.update(moved_s, pose_.a, travelled);
+  updated_at_ = pose_;
   double track_m = 2 * motion_.half_track;
-  stalled_ = world_->move(motion_.left(), motion_.right(), track_m, dt, pose_);
+  stalled_ = world_->move(motion_.left(), motion_.right(), track_m, moved_s, pose_);
   const bool bumped = ((bump_stall_ & 1) && senses_.front_bumpers) || ((bump_stall_ & 2) && senses_.rear_bumpers);
   if (stalled_ || bumped) {
     stalled_ = true;
     motion_.halt();
   }
-  // A MOVE counts the distance the wheels really covered (in the next
-  // update).
-  travelled_ = std::hypot(pose_.x - before.x, pose_.y - before.y);
-  if (motion_.v() < 0) travelled_ = -travelled_;
+}
+
+void PioneerEmulator::reset_odometry() {
+  pose_ = updated_at_ = {};
 }
 
 void PioneerEmulator::reply(std::span<const uint8_t> payload) {

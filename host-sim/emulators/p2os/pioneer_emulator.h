@@ -91,7 +91,7 @@ class PioneerEmulator final : public SerialEmulator {
   const PioneerMotion& motion() const { return motion_; }
   /// The odometric pose the robot reports (m, m, rad); a simulator may set it.
   const PioneerPose& pose() const { return pose_; }
-  void set_pose(const PioneerPose& pose) { pose_ = pose; }
+  void set_pose(const PioneerPose& pose) { pose_ = updated_at_ = pose; }
   /// The robot's parameters in use.
   const drivers::p2os::RobotParams& robot() const { return *robot_; }
   uint32_t sips_sent() const { return sips_sent_; }
@@ -115,6 +115,7 @@ class PioneerEmulator final : public SerialEmulator {
   void send_sip();
   void send_config();
   void move(double dt_s);
+  void reset_odometry();
   void close_session();
   void reset_limits();
 
@@ -131,7 +132,8 @@ class PioneerEmulator final : public SerialEmulator {
   bool motors_enabled_ = false, sonar_enabled_ = false, watchdog_tripped_ = false;
   uint8_t bump_stall_ = 0;  // BUMPSTALL: bit0 front ring, bit1 rear ring stops the robot
   PioneerPose pose_;
-  double travelled_ = 0;  // m driven in the last step, signed
+  PioneerPose updated_at_;  // pose_ at the last motion update
+  double waited_s_ = 0;     // s stepped since the last motion update
   PioneerSenses senses_;
   bool stalled_ = false;
   // The sonar firing order (POLLING), transducer indices; empty: round the ring.

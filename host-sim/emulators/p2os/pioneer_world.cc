@@ -19,6 +19,10 @@ bool PioneerWorld::move(double left, double right, double track, double dt, Pion
   return false;
 }
 
+double PioneerWorld::observe(double waited_s, PioneerPose&) {
+  return waited_s;
+}
+
 void PioneerWorld::sense(const PioneerPose& p, const drivers::p2os::RobotParams& robot, PioneerSenses& s) {
   double c = std::cos(p.a), sn = std::sin(p.a);
   size_t n = std::min<size_t>(robot.sonar_count, PioneerSenses::kMaxSonar);

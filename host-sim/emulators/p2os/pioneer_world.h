@@ -35,6 +35,16 @@ class PioneerWorld {
   /// `pose`. Returns true when the wheels are blocked (the robot reports a
   /// stall). The default rolls freely along the exact arc.
   virtual bool move(double left_mps, double right_mps, double track_m, double dt_s, PioneerPose& pose);
+  /// Called before each motion update with the `waited_s` seconds since
+  /// the last update that ran; returns the seconds of motion to update for,
+  /// 0 to wait. A world that moves the robot by itself at a coarser step
+  /// (a simulator) returns 0 between its steps and, once it stepped, the
+  /// time it moved the robot, with `pose` the odometry it reached: the
+  /// firmware's heading and distance controllers must act on fresh
+  /// feedback once per step, or they overrun their target and hunt round
+  /// it. The default world moves the robot in move(), at the emulator's
+  /// own pace: it returns `waited_s` and leaves `pose` alone.
+  virtual double observe(double waited_s, PioneerPose& pose);
   /// Fills what the sensors read with the robot at `pose`. The default
   /// measures the sonar ranges in `room`.
   virtual void sense(const PioneerPose& pose, const drivers::p2os::RobotParams& robot, PioneerSenses& senses);
