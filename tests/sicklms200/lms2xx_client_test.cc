@@ -143,6 +143,8 @@ TEST_F(Lms2xxClient, SicktoolboxFindsTheBaudAndReadsTheWholeStatus) {
   EXPECT_EQ(le16(r.data, 106), 180) << "scan angle, degrees";
   EXPECT_EQ(le16(r.data, 108), 100) << "resolution, 1/100 degree: sicktoolbox divides by it";
   EXPECT_EQ(r.data[121], uint8_t(sick::Units::Centimetres));
+  EXPECT_EQ(le16(r.data, 115), 0x8019) << "the line's baud, 38400, as the listing codes it";
+  EXPECT_EQ(r.data[118], 1) << "a baud kept over power cycles";
   r = ask({0x74}, 0xF4);
   ASSERT_EQ(r.data.size(), sick::kConfigBytes);
   EXPECT_EQ(r.data[sick::kConfigUnits], uint8_t(sick::Units::Centimetres));

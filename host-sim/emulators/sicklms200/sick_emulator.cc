@@ -255,7 +255,8 @@ void SickEmulator::send_status() {
   // offsets are one more): software version 0-6, operating mode 7, status
   // 8 (0: fine), variant 17, measuring mode 101, scan angle 106-107 and
   // resolution 108-109 (LE16, degrees and 1/100 degree), restart mode 110,
-  // address 119, units 121, laser on 122, boot version 123-129.
+  // the line's baud 115-116, permanent baud 118, address 119, units 121,
+  // laser on 122, boot version 123-129.
   uint8_t b[sick::kStatusBytes] = {};
   auto le16 = [&](size_t at, uint16_t v) {
     b[at] = uint8_t(v & 0xFF);
@@ -267,6 +268,12 @@ void SickEmulator::send_status() {
   b[101] = config_block_[5];  // measuring mode, as configured
   le16(106, width_deg_);
   le16(108, resolution_cdeg_);
+  // The baud as the listing codes it: 0x8000 | d, with d the divider of
+  // the scanner's 1 MHz UART clock, baud = 1 MHz / (d + 1) (0x8001 500 kBd,
+  // 0x8019 38400, 0x8033 19200, 0x8067 9600).
+  le16(115, uint16_t(0x8000 | (1'000'000 / baud_ - 1)));
+  // 1: the scanner keeps its baud over a power cycle (0: back to 9600).
+  b[118] = config_.power_up_baud != 9600;
   b[121] = config_block_[sick::kConfigUnits];
   b[122] = 1;
   std::copy(version.begin(), version.end(), b + 123);
