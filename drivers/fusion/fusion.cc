@@ -132,6 +132,17 @@ void Fusion::on_data(DeviceId source, const wire::Message& data) {
   } else if (source == localize_in_) {
     const wire::LocalizeState* s = data.body_as_LocalizeState();
     if (s == nullptr || s->hypotheses() == nullptr || s->hypotheses()->size() == 0) return;
+    if (s->lost() != localizer_lost_) {
+      localizer_lost_ = s->lost();
+      log_info(localizer_lost_ ? "%s: the localizer says it is lost: its fixes are ignored until it is not"
+                               : "%s: the localizer has found itself: its fixes are used again",
+               name_.c_str());
+    }
+    // A lost localizer's best guess is a guess: applied, it would pull the
+    // belief, or after max_gated refusals reset it, to wherever the
+    // searching particles happen to cluster. The fix after it recovers
+    // passes the gate, or resets the filter if it moved meanwhile.
+    if (localizer_lost_) return;
     const wire::Hypothesis* h = s->hypotheses()->Get(0);
     const wire::Cov2d& c = h->cov();
     Eigen::Matrix3d cov;

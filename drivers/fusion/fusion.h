@@ -43,6 +43,7 @@ class Fusion : public Driver {
   std::unordered_map<int32_t, desktop::Pose2> landmarks_;
   float v_ = 0, w_ = 0;
   size_t warned_ = 0;
+  bool localizer_lost_ = false;  // the last localize sample said "lost"
 };
 
 }  // namespace troupe::drivers::fusion

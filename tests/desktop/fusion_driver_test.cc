@@ -43,6 +43,22 @@ class Source : public Driver {
   DeviceId out_ = kNoDevice;
 };
 
+// A localizer's best hypothesis at `p`, its covariance small, stamped `t_us`.
+void publish_fix(Node& node, DeviceId loc, uint64_t t_us, const Pose2& p, bool lost = false) {
+  auto& b = node.begin();
+  wire::Hypothesis h(wire::Pose2d(float(p.x), float(p.y), float(p.a)), wire::Cov2d(0.01f, 0, 0, 0.01f, 0, 0.003f),
+                     1.0f);
+  auto body = wire::CreateLocalizeState(b, b.CreateVectorOfStructs(&h, 1), 0, 0, lost);
+  node.publish(loc, uint8_t(wire::LocalizeDataSub::Hypotheses), wire::Body::LocalizeState, body.Union(), t_us);
+}
+
+void publish_odometry(Node& node, DeviceId odom, uint64_t t_us, const Pose2& p) {
+  auto& b = node.begin();
+  wire::Pose2d pose(float(p.x), float(p.y), float(p.a));
+  auto body = wire::CreatePosition2dState(b, &pose);
+  node.publish(odom, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(), t_us);
+}
+
 TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
   std::string dir = desktop::testing::scratch_dir();
   std::ofstream(dir + "/fusion.json") << R"({ "port": 0, "drivers": [
@@ -68,16 +84,10 @@ TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
 
   desktop::Rng rng(17);
   const uint64_t t0 = 1'000'000'000;
-  auto publish_fix = [&](uint64_t t, const Pose2& p) {
-    auto& b = node.begin();
-    wire::Hypothesis h(wire::Pose2d(float(p.x), float(p.y), float(p.a)),
-                       wire::Cov2d(0.01f, 0, 0, 0.01f, 0, 0.003f), 1.0f);
-    auto body = wire::CreateLocalizeState(b, b.CreateVectorOfStructs(&h, 1));
-    node.publish(loc, uint8_t(wire::LocalizeDataSub::Hypotheses), wire::Body::LocalizeState, body.Union(), t);
-  };
+  auto fix = [&](uint64_t t, const Pose2& p) { publish_fix(node, loc, t, p); };
   // The first fix starts the filter at the true start.
   Pose2 truth{0, 0, 0}, odo{3, -2, 1};  // odometry has its own frame
-  publish_fix(t0, truth);
+  fix(t0, truth);
   std::map<uint64_t, Pose2> truths;
   double max_err = 0, max_z = 0;
   const double v = 0.5, dt = 0.05;
@@ -88,13 +98,7 @@ TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
     truths[t] = truth;
     // Odometry: the same motion, 5% long; the gyro: the true rate.
     odo = desktop::compose(odo, {1.05 * v * dt, 0, (w + desktop::gaussian(rng, 0.02)) * dt});
-    {
-      auto& b = node.begin();
-      wire::Pose2d pose(float(odo.x), float(odo.y), float(odo.a));
-      auto body = wire::CreatePosition2dState(b, &pose);
-      node.publish(odom, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(),
-                   t);
-    }
+    publish_odometry(node, odom, t, odo);
     {
       auto& b = node.begin();
       wire::Vec3 gyro(0, 0, float(w + desktop::gaussian(rng, 0.01)));
@@ -115,7 +119,7 @@ TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
     if (k % 25 == 0) {  // a fix of 0.3 s ago: arrives late, applied in the past
       uint64_t then = t - 300'000;
       Pose2 p = truths[then];
-      publish_fix(then, {p.x + desktop::gaussian(rng, 0.1), p.y + desktop::gaussian(rng, 0.1), p.a});
+      fix(then, {p.x + desktop::gaussian(rng, 0.1), p.y + desktop::gaussian(rng, 0.1), p.a});
     }
     ASSERT_EQ(src.last_time_us, t) << "fusion publishes after each odometry sample";
     double err = desktop::distance(src.last, truth);
@@ -127,6 +131,53 @@ TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
   EXPECT_LT(desktop::distance(src.last, truth), 0.15);
   EXPECT_LT(max_err, 0.3);
   EXPECT_LT(max_z, 5.0) << "the reported covariance must cover the error";
+}
+
+// mcl says when it is lost (its scans fit far worse than they did) and
+// keeps publishing its best guess while it searches. Fusion must not follow
+// that guess, not even after max_gated refusals, and must follow the
+// localizer again once it has found itself, wherever that is.
+TEST(FusionDriver, IgnoresTheFixesOfALocalizerThatSaysItIsLost) {
+  std::string dir = desktop::testing::scratch_dir();
+  std::ofstream(dir + "/fusion.json") << R"({ "port": 0, "drivers": [
+    { "driver_type": "fusion", "driver": { "max_gated": 3 },
+      "uses": ["position2d:0", "localize:0"], "provides": ["position2d:1"] } ] })";
+  LoadedConfig cfg;
+  std::string error;
+  ASSERT_TRUE(load_config(dir + "/fusion.json", cfg, error)) << error;
+  Node node(node_options(*cfg.root));
+  auto owned = std::make_unique<Source>();
+  Source& src = *owned;
+  DeviceId odom = node.add_device(wire::Address(0, uint16_t(wire::Interface::Position2d), 0), &src, "source");
+  DeviceId loc = node.add_device(wire::Address(0, uint16_t(wire::Interface::Localize), 0), &src, "source");
+  ASSERT_TRUE(build_node(node, cfg, error)) << error;
+  ASSERT_TRUE(node.add_driver(std::move(owned), {}, error)) << error;
+
+  // The robot stands at the origin; odometry says so at 10 Hz.
+  uint64_t t = 1'000'000'000;
+  auto tick = [&] {
+    t += 100'000;
+    publish_odometry(node, odom, t, {0, 0, 0});
+  };
+  publish_fix(node, loc, t, {0, 0, 0});
+  for (int k = 0; k < 5; ++k) tick();
+  ASSERT_LT(desktop::distance(src.last, {0, 0, 0}), 0.01);
+
+  // Lost: its guesses, near (the gate would pass them) and far (max_gated
+  // refusals would make the filter jump there), move nothing.
+  for (int k = 0; k < 10; ++k) {
+    publish_fix(node, loc, t, k % 2 ? Pose2{0.4, 0, 0} : Pose2{3, 3, 1}, true);
+    tick();
+  }
+  EXPECT_LT(desktop::distance(src.last, {0, 0, 0}), 0.01) << "followed a lost localizer";
+
+  // Found again, at a pose the robot was carried to (kidnapped): the
+  // filter refuses max_gated fixes, then believes the localizer.
+  for (int k = 0; k < 6; ++k) {
+    publish_fix(node, loc, t, {3, 3, 1});
+    tick();
+  }
+  EXPECT_LT(desktop::distance(src.last, {3, 3, 1}), 0.05) << "did not follow the recovered localizer";
 }
 
 }  // namespace
