@@ -227,11 +227,28 @@ void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint
   switch (kind) {
     case Kind::Open: return handle_open(client, dev, msg);
     case Kind::Close: return handle_close(client, dev, msg);
-    case Kind::Pull: return handle_pull(client, dev, msg);
-    case Kind::Command: return handle_command(client, dev, msg, frame);
-    case Kind::Request: return handle_request(client, dev, msg);
+    case Kind::Pull:
+      if (!permitted(client, dev, msg, Right::Read)) return;
+      return handle_pull(client, dev, msg);
+    case Kind::Command:
+      if (!permitted(client, dev, msg, Right::Command)) return;
+      return handle_command(client, dev, msg, frame);
+    case Kind::Request:
+      if (!permitted(client, dev, msg, Right::Request)) return;
+      return handle_request(client, dev, msg);
     default: return;
   }
+}
+
+bool Node::permitted(uint32_t client, DeviceId id, const wire::Message& msg, Right right) {
+  const Rights* rights = server_->clients_[client].rights.get();
+  const Device& dev = devices_[id];
+  if (rights == nullptr || rights->allows(right, dev.addr, dev.robot_name)) return true;
+  std::string text = std::string("this client may not ") + right_name(right) + " " +
+                     wire::format_address(dev.addr, dev.robot_name) + " (the node's \"clients\" config)";
+  log_debug("client %u: %s", client, text.c_str());
+  reply_status(client, *msg.header(), Kind::Nack, ErrorCode::Forbidden, text);
+  return false;
 }
 
 void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
@@ -239,6 +256,15 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   const wire::Open* open = msg.body_as_Open();
   auto access = open ? open->access() : wire::Access::All;
   auto delivery = open ? open->delivery() : wire::Delivery::Push;
+  // Opening to read needs the right to read; opening only to write needs
+  // the right to command or to request (each is checked again as it comes).
+  if (uint8_t(access) & uint8_t(wire::Access::Read)) {
+    if (!permitted(client, id, msg, Right::Read)) return;
+  } else if (const Rights* r = server_->clients_[client].rights.get();
+             r && !r->allows(Right::Command, dev.addr, dev.robot_name) &&
+             !permitted(client, id, msg, Right::Request)) {
+    return;
+  }
   Reader* r = find_reader(dev, client);
   if (r == nullptr) {
     dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});

@@ -14,6 +14,7 @@
 
 #include "runtime/driver.h"
 #include "runtime/event_loop.h"
+#include "runtime/rights.h"
 #include "wire/connection/transport.h"
 #include "wire/frame.h"
 #include "wire/writer.h"
@@ -63,6 +64,9 @@ class Node final : public TimerHandler {
     /// wire/noise NoiseTransport; its handshake runs before any frame, and
     /// data stays on TCP). Unset: plain TCP.
     std::function<std::unique_ptr<wire::Transport>()> make_transport;
+    /// Secure sessions: the rights of the client that proved `peer` (its
+    /// transport's peer_identity()). Unset, or null for a peer: every right.
+    std::function<std::shared_ptr<const Rights>(const std::string& peer)> rights_of;
   };
 
   explicit Node(Options options);
@@ -197,6 +201,9 @@ class Node final : public TimerHandler {
   void handle_open(uint32_t client, DeviceId dev, const wire::Message& msg);
   void handle_close(uint32_t client, DeviceId dev, const wire::Message& msg);
   void handle_pull(uint32_t client, DeviceId dev, const wire::Message& msg);
+  /// Whether the client holds `right` on the device; if not, answers the
+  /// message Nack Forbidden.
+  bool permitted(uint32_t client, DeviceId dev, const wire::Message& msg, Right right);
   void send_device_list(uint32_t client, const wire::Message& msg);
   void send_time_sync(uint32_t client, const wire::Message& msg);
   void send_hello(uint32_t client);

@@ -1,6 +1,9 @@
 #include "runtime/node_secure.h"
 
 #include <algorithm>
+#include <memory>
+#include <unordered_map>
+#include <utility>
 
 #include "runtime/log.h"
 #include "wire/noise/key_file.h"
@@ -16,6 +19,30 @@ std::string beside(const std::string& config_path, const std::string& path) {
   if (path.empty() || path.front() == '/') return path;
   const size_t slash = config_path.rfind('/');
   return slash == std::string::npos ? path : config_path.substr(0, slash + 1) + path;
+}
+
+// The rights a client's entry grants: everything when it lists none.
+bool client_rights(const config::TrustedClient& entry, std::shared_ptr<const Rights>& out, std::string& error) {
+  const std::pair<Right, const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>*> lists[] = {
+      {Right::Read, entry.read()}, {Right::Command, entry.command()}, {Right::Request, entry.request()}};
+  if (!entry.read() && !entry.command() && !entry.request()) {
+    out = std::make_shared<const Rights>(Rights::all());
+    return true;
+  }
+  auto rights = std::make_shared<Rights>();
+  for (const auto& [right, patterns] : lists) {
+    if (patterns == nullptr) continue;
+    for (const flatbuffers::String* text : *patterns) {
+      DevicePattern p;
+      if (!DevicePattern::parse(text->string_view(), p, error)) {
+        error = std::string(right_name(right)) + ": " + error;
+        return false;
+      }
+      rights->grant(right, std::move(p));
+    }
+  }
+  out = std::move(rights);
+  return true;
 }
 
 }  // namespace
@@ -42,17 +69,25 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     return false;
   }
   std::vector<noise::Key> clients;
+  // Keyed by the hex text the transport names its peer by.
+  auto rights = std::make_shared<std::unordered_map<std::string, std::shared_ptr<const Rights>>>();
   for (size_t i = 0; i < listed; ++i) {
-    const std::string entry = root.clients()->Get(static_cast<flatbuffers::uoffset_t>(i))->str();
+    const config::TrustedClient& entry = *root.clients()->Get(static_cast<flatbuffers::uoffset_t>(i));
+    const std::string where = cfg.path + ": clients[" + std::to_string(i) + "]";
     noise::Key key;
-    if (!noise::parse_key_hex(entry, key) && !noise::read_public_key(beside(cfg.path, entry), key, why)) {
-      error = cfg.path + ": clients[" + std::to_string(i) + "]: " + why;
+    const std::string key_text = entry.key()->str();  // required: the verifier saw it
+    if (!noise::parse_key_hex(key_text, key) && !noise::read_public_key(beside(cfg.path, key_text), key, why)) {
+      error = where + ": " + why;
+      return false;
+    }
+    std::shared_ptr<const Rights> granted;
+    if (!client_rights(entry, granted, why)) {
+      error = where + ": " + why;
       return false;
     }
     clients.push_back(key);
+    (*rights)[noise::key_hex(key)] = granted;
   }
-  log_info("secure sessions: node key %s, %zu client key(s) accepted", noise::key_hex(identity.public_key).c_str(),
-           clients.size());
   options.make_transport = [identity, clients]() -> std::unique_ptr<wire::Transport> {
     noise::SecureOptions o;
     o.role = noise::Role::Responder;
@@ -63,6 +98,10 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
       return false;
     };
     return std::make_unique<noise::NoiseTransport>(std::move(o));
+  };
+  options.rights_of = [rights](const std::string& peer) -> std::shared_ptr<const Rights> {
+    auto it = rights->find(peer);
+    return it == rights->end() ? std::make_shared<const Rights>() : it->second;  // unknown: nothing
   };
   return true;
 }

@@ -373,7 +373,9 @@ bool Server::open_secure(uint32_t index, std::span<const uint8_t> bytes) {
     c.partial.insert(c.partial.end(), c.sealed.begin(), c.sealed.end());
   }
   if (!was_ready && c.transport->ready()) {
-    log_info("client %u: secure session with key %s", index, c.transport->peer_identity().c_str());
+    const std::string peer = c.transport->peer_identity();
+    log_info("client %u: secure session with key %s", index, peer.c_str());
+    if (node_.options().rights_of) c.rights = node_.options().rights_of(peer);
   }
   if (!c.sealed.empty() || (!was_ready && c.transport->ready())) flush(index);
   return c.state == State::Open;
@@ -613,6 +615,7 @@ void Server::close_client(uint32_t index) {
   c.udp_port = 0;
   c.max_frame = 0;
   c.transport.reset();
+  c.rights.reset();
 }
 
 void Server::close_all() {

@@ -27,6 +27,7 @@
 
 #include "runtime/driver.h"
 #include "runtime/event_loop.h"
+#include "runtime/rights.h"
 #include "wire/connection/transport.h"
 #include "wire/frame.h"
 
@@ -77,6 +78,7 @@ class Server final : public FdHandler, public TimerHandler {
     // sealed as they go to the socket; sealed bytes the socket did not take
     // wait in `partial` (a sealed message must be sent whole, in order).
     std::unique_ptr<wire::Transport> transport;
+    std::shared_ptr<const Rights> rights;  // what it may do (null: everything)
     std::vector<uint8_t> sealed;  // scratch: one batch of sealed bytes
     std::vector<uint8_t> raw;     // scratch: socket bytes for the transport
     std::vector<DeviceId> dirty;  // devices with data not yet sent, FIFO

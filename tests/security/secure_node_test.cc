@@ -40,7 +40,7 @@ class SecureNode : public ::testing::Test {
   void SetUp() override {
     dir_ = troupe::testing::make_temp_dir("troupe-secure-");
     ASSERT_FALSE(dir_.empty());
-    for (const char* name : {"node", "laptop", "stranger"}) {
+    for (const char* name : {"node", "laptop", "stranger", "monitor", "operator"}) {
       Result r = run({kBin + "/troupe", "keygen", dir_ + "/" + name});
       ASSERT_EQ(r.rc, 0) << r.err;
     }
@@ -50,12 +50,17 @@ class SecureNode : public ::testing::Test {
     std::ofstream(config_) << R"({
   "name": "secure-test", "listen": "127.0.0.1", "port": )"
                            << port_ << R"(,
-  "key": "node", "clients": ["laptop.pub"],
-  "drivers": [ { "driver_type": "kinematic", "driver": { "rate_hz": 20 }, "provides": ["position2d:0"] } ]
-})";
+  "key": "node", "clients": )" << clients()
+                           << R"(,
+  "drivers": )" << drivers()
+                           << R"( })";
     std::string error;
     ASSERT_TRUE(node_.start({kBin + "/troupe-node", config_}, dir_, "troupe-node", error)) << error;
     ASSERT_TRUE(troupe::testing::wait_for_listener(port_, 10)) << "troupe-node did not start: " << node_.err();
+  }
+  virtual std::string clients() const { return R"([{ "key": "laptop.pub" }])"; }
+  virtual std::string drivers() const {
+    return R"([ { "driver_type": "kinematic", "driver": { "rate_hz": 20 }, "provides": ["position2d:0"] } ])";
   }
   void TearDown() override {
     if (node_.running()) {
@@ -154,6 +159,70 @@ TEST_F(SecureNode, KeyWithoutClientsDoesNotStart) {
   Result r = run({kBin + "/troupe-node", config});
   EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find("\"key\" without \"clients\""), std::string::npos) << r.err;
+}
+
+// Rights by device pattern: a monitoring laptop reads everything and
+// commands nothing; the operator's station reads everything and commands
+// the base it drives, not the other one; the laptop, listed without rights,
+// may do everything. Each refusal is a Nack Forbidden that leaves the
+// connection (and the node) serving.
+class SecureRights : public SecureNode {
+ protected:
+  std::string clients() const override {
+    return R"([ { "key": "laptop.pub" },
+                { "key": "monitor.pub", "read": ["*"] },
+                { "key": "operator.pub", "read": ["*"], "command": ["position2d:0"] } ])";
+  }
+  std::string drivers() const override {
+    return R"([ { "driver_type": "kinematic", "name": "base", "provides": ["position2d:0"] },
+                { "driver_type": "kinematic", "name": "arm", "provides": ["position2d:1"] } ])";
+  }
+  Result cmd(const std::string& who, const std::string& device) {
+    return troupe({"cmd", host_, device, "vel", "0.2", "0", "0"}, who, "node.pub");
+  }
+  Result get(const std::string& who, const std::string& device) {
+    return troupe({"req", host_, device, "geometry"}, who, "node.pub");
+  }
+};
+
+TEST_F(SecureRights, AReadOnlyClientReadsButItsCommandsAndRequestsAreForbidden) {
+  Result read = troupe({"echo", host_, "position2d:1", "--count", "1"}, "monitor", "node.pub");
+  EXPECT_EQ(read.rc, 0) << read.err;
+  EXPECT_NE(read.out.find("pose="), std::string::npos) << read.out;
+  Result c = cmd("monitor", "position2d:0");
+  EXPECT_NE(c.rc, 0);
+  EXPECT_NE(c.err.find("may not command position2d:0"), std::string::npos) << c.err;
+  Result g = get("monitor", "position2d:0");
+  EXPECT_NE(g.rc, 0);
+  EXPECT_NE(g.err.find("may not request position2d:0"), std::string::npos) << g.err;
+  // Nothing moved: the base still stands where it started.
+  Result pose = troupe({"echo", host_, "position2d:0", "--count", "1"}, "laptop", "node.pub");
+  EXPECT_NE(pose.out.find("pose=0.000,0.000,0.000 vel=0.000,0.000,0.000"), std::string::npos) << pose.out;
+}
+
+TEST_F(SecureRights, AnOperatorCommandsOnlyTheDevicesItsPatternsName) {
+  EXPECT_EQ(cmd("operator", "position2d:0").rc, 0);
+  Result other = cmd("operator", "position2d:1");
+  EXPECT_NE(other.rc, 0);
+  EXPECT_NE(other.err.find("may not command position2d:1"), std::string::npos) << other.err;
+  Result g = get("operator", "position2d:0");
+  EXPECT_NE(g.rc, 0) << "no request right was given";
+  // A client listed without rights holds them all.
+  EXPECT_EQ(cmd("laptop", "position2d:1").rc, 0);
+  Result geometry = get("laptop", "position2d:1");
+  EXPECT_EQ(geometry.rc, 0) << geometry.err;
+}
+
+TEST_F(SecureRights, ABadPatternStopsTheNodeAtStartNamingIt) {
+  const std::string config = dir_ + "/bad.json";
+  std::ofstream(config) << R"({ "listen": "127.0.0.1", "port": 0, "key": "node",
+  "clients": [ { "key": "laptop.pub", "command": ["position2d:0", "wheels:*"] } ],
+  "drivers": [ { "driver_type": "kinematic", "provides": ["position2d:0"] } ] })";
+  Result r = run({kBin + "/troupe-node", config});
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.err.find("clients[0]: command: device pattern 'wheels:*': unknown interface 'wheels'"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace
