@@ -9,6 +9,7 @@
 
 #include "drivers/replay/replay_driver.h"
 #include "runtime/clock.h"
+#include "runtime/exposure.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
 #include "runtime/stop_signals.h"
@@ -105,7 +106,7 @@ int main(int argc, char** argv) {
                       "with its byte offset and play goes on at once.\n",
                       {"troupe play run1.trl",
                        "troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0",
-                       "troupe play laser.trl --loop --listen 0.0.0.0"}});
+                       "troupe play laser.trl --loop --listen 0.0.0.0 --insecure"}});
   app->add_option("FILE", replay.path, "the log to play")->required();
   app->add_option("--speed", replay.speed, "play X times as fast as recorded (default 1; 0.5: half speed)")
       ->type_name("X")
@@ -115,6 +116,10 @@ int main(int argc, char** argv) {
   app->add_option("--listen", node_options.listen,
                   "address to listen on (default localhost: 127.0.0.1 and ::1)")
       ->type_name("ADDR");
+  bool insecure = false;
+  app->add_flag("--insecure", insecure,
+                "allow --listen beyond loopback: any machine that reaches the port\n"
+                "can read what was recorded (logged every minute)");
   app->add_flag("--loop", replay.loop, "start over after the last frame");
   app->add_flag("--wait", replay.wait_for_readers, "hold the start until every recorded device has a reader");
   app->add_flag("--hold", hold, "keep serving after the last frame, until Ctrl-C");
@@ -127,6 +132,10 @@ int main(int argc, char** argv) {
   replay.max_gap_us = uint64_t(max_gap_s * 1e6);
 
   std::string error;
+  if (!troupe::may_serve("troupe play", node_options.listen, node_options.port, /*secure=*/false, insecure, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
   troupe::record::LogSummary summary;
   if (!troupe::record::summarize_log(replay.path, summary, error, replay.max_gap_us)) {
     troupe::log_error("%s", error.c_str());
@@ -175,6 +184,10 @@ int main(int argc, char** argv) {
   }
   troupe::StopSignals signals;
   StopWatch stop(node, signals);
+  std::unique_ptr<troupe::PlainServiceWarning> plain_warning;
+  if (!troupe::loopback_only(node_options.listen)) {
+    plain_warning = std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe play on " + node.listen_text());
+  }
   troupe::log_info("playing %s (%llu frames of %zu devices, %.1f s) at speed %g on %s:%u",
                    replay.path.c_str(), static_cast<unsigned long long>(summary.data_records), devices.size(),
                    double(summary.play_us) * 1e-6, replay.speed, node_options.listen.c_str(),

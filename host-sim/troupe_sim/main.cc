@@ -7,6 +7,7 @@
 #include "host-sim/troupe_sim/robocup_mode.h"
 #include "host-sim/troupe_sim/runner.h"
 #include "host-sim/viewer/view_server.h"
+#include "runtime/exposure.h"
 #include "runtime/log.h"
 #include "runtime/stop_signals.h"
 
@@ -15,6 +16,12 @@ int main(int argc, char** argv) {
   troupe::sim::SimOptions options;
   if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
   std::string error;
+  if (options.serve &&
+      !troupe::may_serve("troupe-sim", options.listen, options.port, /*secure=*/false, options.insecure, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
+  std::unique_ptr<troupe::PlainServiceWarning> plain_warning;
 
   // The viewer beside the node (its URL on stdout, like the port: tests
   // read it). False when it was asked for and cannot open.
@@ -52,6 +59,9 @@ int main(int argc, char** argv) {
     std::printf("listening on %s\n", node.listen_text().c_str());
     std::fflush(stdout);
     troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(node.port()));
+    if (!troupe::loopback_only(options.listen)) {
+      plain_warning = std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe-sim on " + node.listen_text());
+    }
   };
 
   if (troupe::sim::is_robocup_world(options.world)) {

@@ -59,6 +59,9 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   cli::add_port(*app, "--port", out.port, "TCP port (default 6665; 0: any free port, printed)");
   app->add_option("--listen", out.listen, "address to listen on (default localhost: 127.0.0.1 and ::1)")
       ->type_name("ADDR");
+  app->add_flag("--insecure", out.insecure,
+                "allow --listen beyond loopback: any machine that reaches the port\n"
+                "can read and command every robot (logged every minute)");
   app->add_flag("--port-per-robot", out.port_per_robot, "also serve robot i alone as robot 0 on port P+1+i");
   bool no_serve = false;
   app->add_flag("--no-serve", no_serve, "no network at all (batch runs)");

@@ -23,6 +23,9 @@ struct SimOptions {
   bool paused = false;
   uint64_t seed = 0;
   std::string listen = "localhost";
+  /// Serve plain TCP beyond loopback (runtime/exposure.h): troupe-sim has no
+  /// secure sessions, so listening anywhere else must be asked for.
+  bool insecure = false;
   /// TCP port; 0 picks a free one (printed at start).
   uint16_t port = 6665;
   /// Also serve robot i alone, as robot 0, on port + 1 + i.

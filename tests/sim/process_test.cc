@@ -37,19 +37,26 @@ std::string world(double quit_time) {
 
 class SimProcess : public ::testing::Test {
  protected:
-  void start(double quit_time = 0) {
-    dir_ = testing::make_temp_dir("troupe-sim-process-");
-    ASSERT_FALSE(dir_.empty());
+  // troupe-sim on the room, paused, on a free port of 127.0.0.1 unless
+  // `more` says otherwise.
+  void start(double quit_time = 0, const std::vector<std::string>& more = {}) {
+    std::vector<std::string> argv = {kBin + "troupe-sim", write_world(quit_time), "--port", "0", "--no-view",
+                                     "--paused"};
+    argv.insert(argv.end(), more.begin(), more.end());
+    std::string error;
+    ASSERT_TRUE(sim_.start(argv, dir_, "sim", error)) << error;
+    ASSERT_TRUE(sim_.wait_for("listening on ", false, kReplyMs)) << sim_.err();
+    const std::string out = sim_.out();
+    const std::string at = out.substr(out.find("listening on ") + 13);
+    port_ = uint16_t(std::atoi(at.c_str() + at.find(':') + 1));
+    host_ = "127.0.0.1:" + std::to_string(port_);
+  }
+  std::string write_world(double quit_time) {
+    if (dir_.empty()) dir_ = testing::make_temp_dir("troupe-sim-process-");
+    EXPECT_FALSE(dir_.empty());
     const std::string path = dir_ + "/room.world";
     std::ofstream(path) << world(quit_time);
-    std::string error;
-    ASSERT_TRUE(
-        sim_.start({kBin + "troupe-sim", path, "--port", "0", "--no-view", "--paused"}, dir_, "sim", error))
-        << error;
-    ASSERT_TRUE(sim_.wait_for("listening on 127.0.0.1:", false, kReplyMs)) << sim_.err();
-    const std::string out = sim_.out();
-    port_ = uint16_t(std::atoi(out.c_str() + out.find("127.0.0.1:") + 10));
-    host_ = "127.0.0.1:" + std::to_string(port_);
+    return path;
   }
   void TearDown() override {
     sim_.kill_hard();
@@ -175,6 +182,27 @@ TEST_F(SimProcess, SteppingPastTheQuitTimeEndsTheRunAndSaysSo) {
   EXPECT_EQ(sim_.wait_exit(kReplyMs), 0) << sim_.err();
   EXPECT_NE(sim_.err().find("quit time 2 s reached after 20 steps: the run ends"), std::string::npos)
       << sim_.err();
+}
+
+// troupe-sim has no secure sessions: serving beyond loopback lets any
+// machine that reaches the port drive every robot, so it must be asked for,
+// and the log keeps saying it was.
+TEST_F(SimProcess, ListeningBeyondLoopbackNeedsInsecureAndTheLogSaysSo) {
+  testing::ProgramResult refused =
+      testing::run_to_end({kBin + "troupe-sim", write_world(0), "--port", "0", "--no-view", "--listen", "0.0.0.0"},
+                          kReplyMs);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("troupe-sim: serving 0.0.0.0:0 in plain TCP would let any machine"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find("--insecure"), std::string::npos) << refused.err;
+
+  start(0, {"--listen", "0.0.0.0", "--insecure"});
+  EXPECT_TRUE(sim_.wait_for("insecure: troupe-sim on 0.0.0.0:" + std::to_string(port_) + " serves plain TCP", true,
+                            kReplyMs))
+      << sim_.err();
+  testing::ProgramResult ls = troupe({"ls", host_});
+  EXPECT_EQ(ls.status, 0) << ls.err;
 }
 
 }  // namespace
