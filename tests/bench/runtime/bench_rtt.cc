@@ -8,6 +8,8 @@
 //   node        troupe-node's loop: verify, route, the kinematic driver's
 //               reply, the Ack (client: a blocking socket, like the echo's)
 //   node+client the same through the C++ client library (poll, verify)
+//   secure      the same with a secure session (Noise IK: every frame sealed
+//               and opened on both sides), where libsodium is
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -19,6 +21,9 @@
 #include "tests/bench/runtime/bench_util.h"
 #include "tests/bench/runtime/kinematic_node.h"
 #include "wire/client/client.h"
+#ifdef TROUPE_HAVE_NOISE
+#include "wire/noise/noise_transport.h"
+#endif
 
 using namespace troupe;
 
@@ -83,19 +88,48 @@ int main(int argc, char** argv) {
   bench::read_frame(node_fd, hello);  // the node speaks first
   client::Client c("127.0.0.1", node_port);
   if (echo_fd < 0 || node_fd < 0 || !c.connect()) return 1;
-
-  Path paths[3] = {
+  std::vector<Path> paths = {
       {"raw TCP echo (baseline)", {}, {}}, {"troupe-node", {}, {}}, {"troupe-node, C++ client", {}, {}}};
+#ifdef TROUPE_HAVE_NOISE
+  // The node knows the client's key and the client the node's, as a
+  // deployed pair would (keys made here: nothing is read from disk).
+  namespace noise = wire::noise;
+  const noise::KeyPair node_key = noise::generate_keypair(), client_key = noise::generate_keypair();
+  uint16_t secure_port = 0;
+  pid_t secure_node = bench::spawn_server(
+      [&](const std::function<void(uint16_t)>& report) {
+        bench::serve_kinematic_node_through(report, [&]() -> std::unique_ptr<wire::Transport> {
+          noise::SecureOptions o;
+          o.role = noise::Role::Responder;
+          o.identity = node_key;
+          o.accept = [&](const noise::Key& k, std::string&) { return k == client_key.public_key; };
+          return std::make_unique<noise::NoiseTransport>(std::move(o));
+        });
+      },
+      secure_port);
+  client::Client::Options so;
+  noise::SecureOptions co;
+  co.identity = client_key;
+  co.peer_key = node_key.public_key;
+  so.transport = std::make_shared<noise::NoiseTransport>(std::move(co));
+  client::Client secure("127.0.0.1", secure_port, so);
+  if (secure_port == 0 || !secure.connect()) return 1;
+  paths.push_back({"secure troupe-node, C++ client", {}, {}});
+#endif
+  auto take = [&](int n) {
+    std::vector<std::vector<double>> samples = {bench::blocking_round_trips(echo_fd, n),
+                                                bench::blocking_round_trips(node_fd, n), client_round_trips(c, n)};
+#ifdef TROUPE_HAVE_NOISE
+    samples.push_back(client_round_trips(secure, n));
+#endif
+    return samples;
+  };
   // Warm up every path, then interleave the repeats so that machine noise
   // falls on all of them alike.
-  bench::blocking_round_trips(echo_fd, 500);
-  bench::blocking_round_trips(node_fd, 500);
-  client_round_trips(c, 500);
+  take(500);
   for (int r = 0; r < repeats; ++r) {
-    std::vector<double> samples[3] = {bench::blocking_round_trips(echo_fd, count),
-                                      bench::blocking_round_trips(node_fd, count),
-                                      client_round_trips(c, count)};
-    for (int p = 0; p < 3; ++p) {
+    std::vector<std::vector<double>> samples = take(count);
+    for (size_t p = 0; p < paths.size(); ++p) {
       paths[p].all.insert(paths[p].all.end(), samples[p].begin(), samples[p].end());
       paths[p].medians.push_back(bench::percentile(samples[p], 50));
     }
@@ -109,6 +143,11 @@ int main(int argc, char** argv) {
     double med = bench::percentile(p.medians, 50);
     printf("| %s | %.1f | %.1f | %.2f |\n", p.name, med, bench::percentile(p.all, 99), med / base);
   }
+#ifdef TROUPE_HAVE_NOISE
+  printf("\nsecure / plain, C++ client: %.2f\n",
+         bench::percentile(paths[3].medians, 50) / bench::percentile(paths[2].medians, 50));
+  bench::stop_server(secure_node);
+#endif
   close(echo_fd);
   close(node_fd);
   bench::stop_server(echo);

@@ -11,8 +11,14 @@
 namespace troupe::bench {
 
 void serve_kinematic_node(const std::function<void(uint16_t)>& report) {
+  serve_kinematic_node_through(report, {});
+}
+
+void serve_kinematic_node_through(const std::function<void(uint16_t)>& report,
+                                  const std::function<std::unique_ptr<wire::Transport>()>& make_transport) {
   Node::Options o;
   o.port = 0;
+  o.make_transport = make_transport;
   Node node(o);
   auto* driver = new drivers::kinematic::Kinematic;
   DeviceId ids[1] = {node.add_device(kBenchBase, driver, "kinematic")};

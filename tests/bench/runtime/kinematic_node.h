@@ -5,9 +5,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "wire/address.h"
+#include "wire/connection/transport.h"
 
 namespace troupe::bench {
 
@@ -18,6 +20,10 @@ inline const wire::Address kBenchBase(0, uint16_t(wire::Interface::Position2d), 
 /// (0 when it cannot start, after printing why) and serves until killed. For
 /// spawn_server().
 void serve_kinematic_node(const std::function<void(uint16_t)>& report);
+/// The same node with each connection through the transport `make_transport`
+/// makes (a secure session), for comparing against the plain one.
+void serve_kinematic_node_through(const std::function<void(uint16_t)>& report,
+                                  const std::function<std::unique_ptr<wire::Transport>()>& make_transport);
 
 /// The ResetOdometry request to kBenchBase, framed, with sequence `seq`.
 std::vector<uint8_t> request_frame(uint32_t seq);
