@@ -21,6 +21,8 @@ struct ServerState {
   std::vector<std::string> machine_names;
   /// WebSocket handshakes refused for their Origin or Host so far.
   uint64_t refused_origins = 0;
+  /// Requests refused for want of the token so far.
+  uint64_t refused_tokens = 0;
 };
 
 }  // namespace troupe::viewer

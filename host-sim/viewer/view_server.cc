@@ -10,10 +10,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "host-sim/viewer/access_token.h"
 #include "host-sim/viewer/bridge_session.h"
 #include "host-sim/viewer/origin_check.h"
 #include "host-sim/viewer/server_state.h"
 #include "host-sim/viewer/web_files.h"
+#include "runtime/exposure.h"
 #include "runtime/log.h"
 
 namespace troupe::viewer {
@@ -48,6 +50,20 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_read(beast::error_code ec, size_t) {
     if (ec) return;  // closed, timed out or malformed: the socket closes
     http::request<http::string_body> req = parser_->release();
+    set_cookie_.clear();
+    if (const std::string& token = server_->options.token; !token.empty()) {
+      const std::string_view target(req.target().data(), req.target().size());
+      if (!token_matches(presented_token(target, field(req, http::field::cookie)), token)) {
+        if (log_this_one(server_->refused_tokens)) {
+          log_warn("viewer: request without the viewer's token refused (%llu so far)",
+                   static_cast<unsigned long long>(server_->refused_tokens));
+        }
+        return reply(req, http::status::forbidden,
+                     "This viewer serves a network: open the URL it printed, with its token.\n");
+      }
+      // The page's files and its WebSocket then carry it as a cookie.
+      set_cookie_ = std::string(kTokenCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict";
+    }
     if (beast::websocket::is_upgrade(req)) {
       if (req.target() != "/ws") return reply(req, http::status::not_found, "WebSockets are served on /ws\n");
       const OriginVerdict verdict =
@@ -99,6 +115,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     res->set(http::field::server, "troupe-viewer");
     res->set(http::field::content_type, std::string(type));
     res->set(http::field::cache_control, "no-store");
+    if (!set_cookie_.empty()) res->set(http::field::set_cookie, set_cookie_);
     res->keep_alive(req.keep_alive());
     if (req.method() != http::verb::head) res->body() = std::move(body);
     res->prepare_payload();
@@ -116,6 +133,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<ServerState> server_;
+  std::string set_cookie_;  // for the reply to a request that showed the token
 };
 
 }  // namespace
@@ -144,6 +162,7 @@ std::string default_web_root() {
 }
 
 ViewServer::ViewServer(ViewOptions options) : impl_(std::make_unique<Impl>()) {
+  if (options.token.empty() && !loopback_only(options.listen)) options.token = make_token();
   impl_->state->options = std::move(options);
   impl_->state->machine_names = this_machine_names();
 }
@@ -191,7 +210,8 @@ std::string ViewServer::url() const {
   const bool any = host == "0.0.0.0" || host == "::";
   const std::string shown =
       any ? "127.0.0.1" : (host.find(':') != std::string::npos ? "[" + host + "]" : host);
-  return "http://" + shown + ":" + std::to_string(port()) + "/";
+  const std::string& token = impl_->state->options.token;
+  return "http://" + shown + ":" + std::to_string(port()) + "/" + (token.empty() ? "" : "?token=" + token);
 }
 
 void ViewServer::run() {

@@ -40,6 +40,9 @@ struct ViewOptions {
   /// besides the viewer's own page; every other is refused with HTTP 403
   /// (origin_check.h).
   std::vector<std::string> allow_origins;
+  /// Asked of every request when set (access_token.h). Empty: the server
+  /// makes one if it listens beyond loopback, and none otherwise.
+  std::string token;
 };
 
 /// The folder holding the page's files, found from this executable's place
@@ -59,7 +62,8 @@ class ViewServer {
   bool open(std::string& error);
   /// The bound HTTP port (after open()).
   uint16_t port() const;
-  /// "http://ADDR:PORT/" for people to open.
+  /// "http://ADDR:PORT/" for people to open, with "?token=..." when the
+  /// server asks for one.
   std::string url() const;
 
   /// Serves on the calling thread until stop().

@@ -367,6 +367,48 @@ TEST_F(BridgeTest, AnOriginAllowedByOptionIsAccepted) {
   EXPECT_EQ(handshake_status(proxied.port(), "robots.lab:8080", "http://robots.lab:9090"), 403);
 }
 
+// A viewer listening beyond loopback is a remote control for every robot
+// to anyone who reaches its port: it answers only requests that show the
+// token printed in its URL, and hands the page a cookie with it.
+TEST_F(BridgeTest, AViewerBeyondLoopbackAsksEveryRequestForItsToken) {
+  ViewOptions vo;
+  vo.listen = "0.0.0.0";
+  vo.http_port = 0;
+  vo.node_port = runner_.port();
+  vo.web_root = dir_.path("web");
+  ViewServer lab(vo);
+  std::string error;
+  ASSERT_TRUE(lab.open(error)) << error;
+  lab.start_thread();
+  const uint16_t port = lab.port();
+  const std::string url = lab.url();
+  const size_t at = url.find("/?token=");
+  ASSERT_NE(at, std::string::npos) << url;
+  const std::string token = url.substr(at + 8);
+  EXPECT_EQ(token.size(), 32u) << url;
+
+  // Without it: neither the page nor a WebSocket.
+  const std::string self = "127.0.0.1:" + std::to_string(port);
+  auto refused = get(port, "/");
+  EXPECT_EQ(refused.result(), http::status::forbidden);
+  EXPECT_NE(refused.body().find("open the URL it printed"), std::string::npos) << refused.body();
+  EXPECT_EQ(get(port, "/?token=" + std::string(32, '0')).result(), http::status::forbidden);
+  EXPECT_EQ(handshake_status(port, self, "http://" + self), 403);
+
+  // With it: the page, and the cookie the page's other requests carry.
+  auto page = get(port, "/?token=" + token);
+  EXPECT_EQ(page.result(), http::status::ok);
+  EXPECT_EQ(page.body(), "<title>the page</title>");
+  const std::string cookie(page[http::field::set_cookie]);
+  EXPECT_EQ(cookie, "troupe_view_token=" + token + "; Path=/; HttpOnly; SameSite=Strict");
+  const std::string upgrade =
+      "GET /ws HTTP/1.1\r\nHost: " + self + "\r\nOrigin: http://" + self +
+      "\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+      "Sec-WebSocket-Version: 13\r\nCookie: troupe_view_token=" +
+      token + "\r\n\r\n";
+  EXPECT_EQ(attack::http_exchange(port, upgrade).status, 101);
+}
+
 // The 44-byte frame (a Hello whose body is absent) passes the bridge's
 // verifier and reaches the node: the simulator must refuse it and go on.
 TEST_F(BridgeTest, ANullBodyFrameThroughTheBridgeLeavesTheSimulatorServing) {
