@@ -66,6 +66,22 @@ const std::vector<Attack>& attacks() {
        {K::Play},
        time_jump_recordings,
        true},
+      {"no handshake", "plain frames (Hello, a velocity command, DeviceList) to a secure node", {K::SecureNode},
+       no_handshake},
+      {"wrong keys", "handshakes with a key the node does not list, and to another node's key", {K::SecureNode},
+       wrong_keys},
+      {"replayed session", "a recorded session (handshake and a request) played again", {K::SecureNode},
+       replayed_session},
+      {"tampered messages",
+       "a live session's message replayed, reordered, truncated, bit-flipped; a 65,535-byte forgery",
+       {K::SecureNode},
+       tampered_messages},
+      {"half-open handshakes", "half a first handshake message, then silence, by the hundred", {K::SecureNode},
+       half_open_handshakes},
+      {"outside rights",
+       "a read-only client's commands and requests; an operator's to a device it may not use",
+       {K::SecureNode},
+       outside_rights},
   };
   return list;
 }
@@ -83,11 +99,12 @@ Outcome run_attack(const Attack& attack, TargetKind kind, int scale, std::string
   if (!target.start(kind, error)) return out;
   // The baseline after one visit: the target has served a client once.
   std::string why;
-  served(target.port(), why);
+  served(target.port(), why, 20000, target.legit_session());
   out.before = target.usage();
   attack.run(target, scale, out);
   out.survived = out.survived && target.alive();
-  out.served = target.alive() && served_eventually(target.port(), out.why_not_served, 20000);
+  out.served =
+      target.alive() && served_eventually(target.port(), out.why_not_served, 20000, target.legit_session());
   if (out.served && target.view_port() != 0)
     out.served = served_by_viewer(target.view_port(), out.why_not_served);
   if (!target.alive()) out.why_not_served = std::string(target_name(kind)) + " is gone: " + target.log();

@@ -75,7 +75,7 @@ const Attack* find_attack(const std::string& name);
 Outcome run_attack(const Attack& attack, TargetKind kind, int scale, std::string& error);
 
 // The cases, by topic (frame_attacks.cc, session_attacks.cc,
-// viewer_attacks.cc, record_attacks.cc).
+// viewer_attacks.cc, record_attacks.cc, secure_attacks.cc).
 void malformed_frames(Target& t, int scale, Outcome& out);
 void null_bodies(Target& t, int scale, Outcome& out);
 void non_finite_values(Target& t, int scale, Outcome& out);
@@ -89,5 +89,11 @@ void viewer_http(Target& t, int scale, Outcome& out);
 void viewer_malformed_messages(Target& t, int scale, Outcome& out);
 void corrupt_recordings(Target& t, int scale, Outcome& out);
 void time_jump_recordings(Target& t, int scale, Outcome& out);
+void no_handshake(Target& t, int scale, Outcome& out);
+void wrong_keys(Target& t, int scale, Outcome& out);
+void replayed_session(Target& t, int scale, Outcome& out);
+void tampered_messages(Target& t, int scale, Outcome& out);
+void half_open_handshakes(Target& t, int scale, Outcome& out);
+void outside_rights(Target& t, int scale, Outcome& out);
 
 }  // namespace troupe::attack

@@ -24,7 +24,7 @@ wire::Address busiest(const Target& t) {
 // Counts a lockout: the legitimate client not served within the bound.
 void legit_served_now(const Target& t, Outcome& out, int timeout_ms) {
   std::string why;
-  if (!served_eventually(t.port(), why, timeout_ms))
+  if (!served_eventually(t.port(), why, timeout_ms, t.legit_session()))
     out.got_through("a legitimate client was locked out: " + why);
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "tests/attack/recordings.h"
+#include "wire/noise/key_file.h"
 
 namespace troupe::attack {
 namespace {
@@ -17,6 +18,28 @@ constexpr int kStartMs = 30000;  // bounds a start that fails, not a requirement
 uint16_t port_after(const std::string& text, const std::string& prefix) {
   const size_t at = text.find(prefix);
   return at == std::string::npos ? 0 : uint16_t(std::atoi(text.c_str() + at + prefix.size()));
+}
+
+// The secure node's key files and config in `dir`.
+bool write_secure_config(const std::string& dir, SecureKeys& keys, std::string& error) {
+  namespace noise = wire::noise;
+  const std::pair<const char*, noise::KeyPair*> named[] = {{"node", &keys.node},
+                                                            {"laptop", &keys.laptop},
+                                                            {"monitor", &keys.monitor},
+                                                            {"operator", &keys.operator_},
+                                                            {"stranger", &keys.stranger}};
+  for (const auto& [name, pair] : named) {
+    const std::string path = dir + "/" + name;
+    if (!noise::write_key_pair(path, name, error) || !noise::read_secret_key(path, *pair, error)) return false;
+  }
+  std::ofstream(dir + "/node.json") << R"({ "name": "secure-target", "listen": "127.0.0.1",
+  "key": "node",
+  "clients": [ { "key": "laptop.pub" },
+               { "key": "monitor.pub", "read": ["*"] },
+               { "key": "operator.pub", "read": ["*"], "command": ["position2d:0"] } ],
+  "drivers": [ { "driver_type": "kinematic", "name": "base", "provides": ["position2d:0"] },
+               { "driver_type": "kinematic", "name": "arm", "provides": ["position2d:1"] } ] })";
+  return true;
 }
 
 }  // namespace
@@ -40,6 +63,8 @@ const char* target_name(TargetKind kind) {
       return "troupe-sim";
     case TargetKind::Play:
       return "troupe play";
+    case TargetKind::SecureNode:
+      return "secure troupe-node";
   }
   return "?";
 }
@@ -115,6 +140,14 @@ bool Target::start(TargetKind kind, std::string& error) {
                             "target", error);
       break;
     }
+    case TargetKind::SecureNode: {
+      if (!write_secure_config(dir_, keys_, error)) return false;
+      legit_ = session_as(keys_.laptop);
+      port_ = testing::free_port();
+      started = proc_.start({program("troupe-node"), dir_ + "/node.json", "--port", std::to_string(port_)}, dir_,
+                            "target", error);
+      break;
+    }
   }
   if (!started) return false;
   if (port_ == 0 || !testing::wait_for_listener(port_, kStartMs / 1000.0)) {
@@ -122,6 +155,13 @@ bool Target::start(TargetKind kind, std::string& error) {
     return false;
   }
   return true;
+}
+
+wire::noise::SecureOptions Target::session_as(const wire::noise::KeyPair& who) const {
+  wire::noise::SecureOptions o;
+  o.identity = who;
+  o.peer_key = keys_.node.public_key;
+  return o;
 }
 
 }  // namespace troupe::attack

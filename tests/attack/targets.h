@@ -1,7 +1,7 @@
 // The programs under attack, run as a user runs them, each in its own
 // process on loopback: troupe-node serving examples/nodes/kinematic.json,
-// troupe-sim on a small world (with its viewer), and troupe play serving a
-// recording in a loop.
+// troupe-sim on a small world (with its viewer), troupe play serving a
+// recording in a loop, and a secure troupe-node (keys, clients with rights).
 #pragma once
 
 #include <sys/types.h>
@@ -10,10 +10,11 @@
 #include <string>
 
 #include "tests/support/child_process.h"
+#include "wire/noise/noise_transport.h"
 
 namespace troupe::attack {
 
-enum class TargetKind { Node, Sim, Play };
+enum class TargetKind { Node, Sim, Play, SecureNode };
 const char* target_name(TargetKind kind);
 
 /// What a process holds, from /proc.
@@ -25,6 +26,14 @@ Usage usage_of(pid_t pid);
 
 /// The sim target's world: a 10 x 10 m room, r0 with a 181-beam laser, r1.
 extern const char* const kSmallWorld;
+
+/// The secure node's keys, each written to the target's folder by name.
+/// Its config accepts laptop (every right), monitor (reads everything) and
+/// operator (reads everything, commands position2d:0, nothing else); it
+/// serves two kinematic bases, position2d:0 and position2d:1.
+struct SecureKeys {
+  wire::noise::KeyPair node, laptop, monitor, operator_, stranger;
+};
 
 class Target {
  public:
@@ -49,12 +58,23 @@ class Target {
   const std::string& dir() const { return dir_; }
   /// SIGTERM and the exit status (-1: killed by a signal or hung).
   int stop() { return proc_.stop(); }
+  /// The secure node's keys (all zero for the other targets).
+  const SecureKeys& keys() const { return keys_; }
+  /// How `who` opens a session with the secure node.
+  wire::noise::SecureOptions session_as(const wire::noise::KeyPair& who) const;
+  /// The legitimate client's session (the laptop's) for the secure node;
+  /// null for a plain target.
+  const wire::noise::SecureOptions* legit_session() const {
+    return kind_ == TargetKind::SecureNode ? &legit_ : nullptr;
+  }
 
  private:
   TargetKind kind_ = TargetKind::Node;
   testing::ChildProcess proc_;
   std::string dir_;
   uint16_t port_ = 0, view_port_ = 0;
+  SecureKeys keys_;
+  wire::noise::SecureOptions legit_;
 };
 
 /// A built program's path: <bin>/<name>, where bin is this build's

@@ -11,7 +11,61 @@ namespace troupe::attack {
 
 bool WirePeer::connect(uint16_t port) {
   reader_ = wire::FrameReader(2u << 20);
+  transport_.reset();
+  sent_.clear();
+  session_error_.clear();
   return socket_.connect(port);
+}
+
+bool WirePeer::connect_secure(uint16_t port, wire::noise::SecureOptions options, std::string* why,
+                              int timeout_ms) {
+  if (!connect(port)) return false;
+  options.role = wire::noise::Role::Initiator;
+  transport_ = std::make_unique<wire::noise::NoiseTransport>(std::move(options));
+  Bytes first;
+  transport_->begin(first);
+  sent_ = first;
+  if (!socket_.send(first, timeout_ms)) return false;
+  const Deadline deadline = deadline_in(timeout_ms);
+  while (!transport_->ready()) {
+    if (!receive(deadline)) {
+      if (why != nullptr) *why = session_error_.empty() ? "the node closed during the handshake" : session_error_;
+      return false;
+    }
+  }
+  return true;
+}
+
+bool WirePeer::send(std::span<const uint8_t> bytes, int timeout_ms) {
+  if (transport_ == nullptr) return socket_.send(bytes, timeout_ms);
+  Bytes sealed;
+  transport_->outbound(bytes, sealed);
+  sent_.insert(sent_.end(), sealed.begin(), sealed.end());
+  return socket_.send(sealed, timeout_ms);
+}
+
+Bytes WirePeer::seal(std::span<const uint8_t> bytes) {
+  Bytes sealed;
+  if (transport_ != nullptr) transport_->outbound(bytes, sealed);
+  return sealed;
+}
+
+bool WirePeer::receive(Deadline deadline) {
+  if (transport_ == nullptr) {
+    const long n = socket_.recv_some(reader_.write_space(), ms_left(deadline));
+    if (n <= 0) return false;
+    reader_.commit(size_t(n));
+    return true;
+  }
+  uint8_t buf[16384];
+  const long n = socket_.recv_some(buf, ms_left(deadline));
+  if (n <= 0) return false;
+  Bytes reply;
+  if (!transport_->inbound(std::span<const uint8_t>(buf, size_t(n)), reader_, reply, session_error_)) {
+    socket_.close();
+    return false;
+  }
+  return reply.empty() || socket_.send(reply);
 }
 
 std::optional<Bytes> WirePeer::read_frame(int timeout_ms) {
@@ -19,9 +73,7 @@ std::optional<Bytes> WirePeer::read_frame(int timeout_ms) {
   for (;;) {
     if (std::span<const uint8_t> f = reader_.next(); !f.empty()) return Bytes(f.begin(), f.end());
     if (!socket_.open() || reader_.too_large()) return std::nullopt;
-    const long n = socket_.recv_some(reader_.write_space(), ms_left(deadline));
-    if (n <= 0) return std::nullopt;
-    reader_.commit(size_t(n));
+    if (!receive(deadline)) return std::nullopt;
   }
 }
 
@@ -174,11 +226,11 @@ wire::Kind reply_kind(const std::optional<Bytes>& reply) {
   return m ? m->header()->kind() : wire::Kind::Invalid;
 }
 
-bool served(uint16_t port, std::string& why, int timeout_ms) {
+bool served(uint16_t port, std::string& why, int timeout_ms, const wire::noise::SecureOptions* secure) {
   WirePeer peer;
   Frames f;
-  if (!peer.connect(port)) {
-    why = "cannot connect";
+  if (secure != nullptr ? !peer.connect_secure(port, *secure, &why) : !peer.connect(port)) {
+    why = "cannot connect" + (why.empty() ? "" : ": " + why);
     return false;
   }
   if (!peer.send(f.hello(0)) || !peer.send(f.bare({}, wire::Kind::DeviceList, 0, 1))) {
@@ -208,10 +260,11 @@ bool served(uint16_t port, std::string& why, int timeout_ms) {
   return true;
 }
 
-bool served_eventually(uint16_t port, std::string& why, int timeout_ms) {
+bool served_eventually(uint16_t port, std::string& why, int timeout_ms,
+                       const wire::noise::SecureOptions* secure) {
   const Deadline deadline = deadline_in(timeout_ms);
   for (;;) {
-    if (served(port, why, std::max(1000, std::min(ms_left(deadline), 5000)))) return true;
+    if (served(port, why, std::max(1000, std::min(ms_left(deadline), 5000)), secure)) return true;
     if (ms_left(deadline) == 0) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "tests/attack/tcp_socket.h"
 #include "wire/frame.h"
+#include "wire/noise/noise_transport.h"
 #include "wire/writer.h"
 
 namespace troupe::attack {
@@ -22,9 +24,28 @@ class WirePeer {
  public:
   /// Connects to 127.0.0.1:`port`, forgetting any earlier connection.
   bool connect(uint16_t port);
-  /// The connection itself: send, send_now, close, reset.
+  /// Connects and runs a secure session's handshake as `options` say (the
+  /// initiator's); afterwards send() seals and read_frame() opens. False
+  /// when the connection failed or the node ended it during the handshake
+  /// (`why` then says what the transport saw, if anything).
+  bool connect_secure(uint16_t port, wire::noise::SecureOptions options, std::string* why = nullptr,
+                      int timeout_ms = 5000);
+  /// The connection itself: send, send_now, close, reset. On a secure
+  /// session its bytes go unsealed: what a man in the middle would send.
   TcpSocket& socket() { return socket_; }
-  bool send(std::span<const uint8_t> bytes, int timeout_ms = 5000) { return socket_.send(bytes, timeout_ms); }
+  /// Sends `bytes`, sealed on a secure session.
+  bool send(std::span<const uint8_t> bytes, int timeout_ms = 5000);
+  /// On a secure session: `bytes` sealed as the next transport message(s),
+  /// each with its length prefix, not sent (the session's nonce moves on):
+  /// for an attacker to replay, reorder or alter before sending them
+  /// through socket().
+  Bytes seal(std::span<const uint8_t> bytes);
+  /// On a secure session, every byte this peer put on the socket through
+  /// the handshake and send(), as the wire saw it: what a recording
+  /// attacker replays. (A plain peer keeps nothing: floods send a lot.)
+  const Bytes& sent() const { return sent_; }
+  /// Why a secure session ended on our side (a message that did not open).
+  const std::string& session_error() const { return session_error_; }
   /// The next whole frame (prefix included) within `timeout_ms`; nullopt
   /// when the connection ended (closed()) or the time ran out.
   std::optional<Bytes> read_frame(int timeout_ms);
@@ -38,8 +59,15 @@ class WirePeer {
   bool closed() const { return socket_.closed(); }
 
  private:
+  /// Reads what arrives within the deadline into reader_ (opened, on a
+  /// secure session); false once the connection or the session ended.
+  bool receive(Deadline deadline);
+
   TcpSocket socket_;
   wire::FrameReader reader_{2u << 20};
+  std::unique_ptr<wire::noise::NoiseTransport> transport_;  // null: plain
+  Bytes sent_;
+  std::string session_error_;
 };
 
 /// wait_reply()'s test: is `m` the reply to `seq` (or an Error)?
@@ -89,14 +117,17 @@ const wire::Message* message(const Bytes& frame);
 /// The reply's kind, Invalid for none.
 wire::Kind reply_kind(const std::optional<Bytes>& reply);
 
-/// A legitimate client's visit: connect, Hello, DeviceList, then a request
-/// to the first listed device, each answered (Ack or Nack) within
-/// `timeout_ms` (a bound against hangs, not a latency requirement). False
-/// with `why` saying what did not happen.
-bool served(uint16_t port, std::string& why, int timeout_ms = 20000);
+/// A legitimate client's visit: connect (through a secure session when
+/// `secure` is given), Hello, DeviceList, then a request to the first
+/// listed device, each answered (Ack or Nack) within `timeout_ms` (a bound
+/// against hangs, not a latency requirement). False with `why` saying what
+/// did not happen.
+bool served(uint16_t port, std::string& why, int timeout_ms = 20000,
+            const wire::noise::SecureOptions* secure = nullptr);
 
 /// served(), retried until it succeeds or `timeout_ms` passes: a client
 /// that finds every slot taken tries again, as a person would.
-bool served_eventually(uint16_t port, std::string& why, int timeout_ms);
+bool served_eventually(uint16_t port, std::string& why, int timeout_ms,
+                       const wire::noise::SecureOptions* secure = nullptr);
 
 }  // namespace troupe::attack
