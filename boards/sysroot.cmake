@@ -33,7 +33,8 @@ if(CMAKE_CROSSCOMPILING AND _packages)
   # say so here rather than let the linker say "cannot find -lserial".
   file(GLOB _archives ${TROUPE_SYSROOT_LIB}/*.a)
   if(TROUPE_STATIC AND NOT _archives)
-    message(FATAL_ERROR "Board ${TROUPE_BOARD} with TROUPE_STATIC: its drivers link libraries of [${_packages}], "
+    list(JOIN _packages ", " _names)
+    message(FATAL_ERROR "Board ${TROUPE_BOARD} with TROUPE_STATIC: its drivers link libraries of ${_names}, "
                         "and these Debian packages hold no static archive (lib*.a) for ${TROUPE_TARGET_DEB_ARCH}. "
                         "Build those libraries as static archives into ${TROUPE_SYSROOT_LIB}, or build the board "
                         "without TROUPE_STATIC.")
