@@ -29,6 +29,7 @@
 #   TROUPE_DEB_SYMBOLS        Debian symbols files (version tag -> floor)
 #   TROUPE_DEB_NATIVE         ON when the node runs on the build machine: other
 #                             libraries are looked up with dpkg-query -S
+#   TROUPE_DEB_TRIPLE         the multiarch folder of its libraries
 #   TROUPE_DEB_EXTRA_DEPENDS  dependencies added as they are
 
 if(NOT CPACK_GENERATOR STREQUAL "DEB" OR NOT DEFINED TROUPE_DEB_NODE)
@@ -109,8 +110,9 @@ function(_troupe_deb_shlibs out soname)
   endif()
   set(_files ${TROUPE_DEB_SHLIBS})
   if(TROUPE_DEB_NATIVE)
-    # The package that owns the library on this machine, and its shlibs.
-    execute_process(COMMAND dpkg-query -S "*/${soname}" OUTPUT_VARIABLE _owners ERROR_QUIET)
+    # The package that owns the library of the node's architecture on this
+    # machine (not /lib32's or another multiarch folder's), and its shlibs.
+    execute_process(COMMAND dpkg-query -S "*/${TROUPE_DEB_TRIPLE}/${soname}" OUTPUT_VARIABLE _owners ERROR_QUIET)
     if(_owners MATCHES "^([^:,]+)")
       execute_process(COMMAND dpkg-query --control-path ${CMAKE_MATCH_1} shlibs
                       OUTPUT_VARIABLE _path OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
