@@ -17,6 +17,11 @@
 #   BOARD_COMPILE_OPTIONS  compile options of every target
 #   BOARD_LINK_OPTIONS     link options of every program
 #   BOARD_LTO              ON for link-time optimisation
+#   BOARD_STATIC           ON to link the programs fully statically (glibc,
+#                          libstdc++ and libgcc from the cross toolchain's
+#                          own static archives): the node then runs on any
+#                          Linux of its architecture, whatever its userland.
+#                          -DTROUPE_STATIC=ON|OFF overrides it.
 # The small boards share theirs in boards/small.cmake.
 
 # boards/toolchain.cmake checked that the board exists, before project().
@@ -31,6 +36,7 @@ set(BOARD_BUILD_TYPE "")
 set(BOARD_COMPILE_OPTIONS "")
 set(BOARD_LINK_OPTIONS "")
 set(BOARD_LTO OFF)
+set(BOARD_STATIC OFF)
 include(${TROUPE_BOARD_DIR}/board.cmake)
 
 set(TROUPE_BOARD_DRIVERS ${BOARD_DRIVERS})
@@ -49,6 +55,24 @@ if(NOT CMAKE_BUILD_TYPE AND BOARD_BUILD_TYPE)
 endif()
 add_compile_options(${BOARD_COMPILE_OPTIONS})
 add_link_options(${BOARD_LINK_OPTIONS})
+
+# Static programs. Why glibc and not musl: Debian's musl (musl-tools,
+# musl-dev) is built for the host architecture only, has no powerpc at all
+# (no archive), and Debian's libstdc++ is compiled against glibc, so a C++
+# program on musl would need a libstdc++ of its own. The cross toolchains'
+# libc6-dev-<arch>-cross and libstdc++-12-dev-<arch>-cross already hold
+# libc.a and libstdc++.a for every target. What glibc static costs: its
+# stdio, locale and malloc come along (boards/README.md has the sizes), and
+# looking up a host name (getaddrinfo with a name, not a number) would load
+# NSS modules of the same glibc at run time, which a foreign system lacks:
+# give a static node numeric listen addresses.
+set(TROUPE_STATIC ${BOARD_STATIC} CACHE BOOL "Link troupe-node fully statically (default: the board's BOARD_STATIC)")
+if(TROUPE_STATIC)
+  # Executables only: a shared library (the tests' preloaded allocation
+  # counter) cannot be static, and a static node loads none anyway.
+  string(APPEND CMAKE_EXE_LINKER_FLAGS " -static")
+  message(STATUS "Board ${TROUPE_BOARD}: programs linked statically (TROUPE_STATIC)")
+endif()
 if(BOARD_LTO AND NOT TROUPE_SANITIZE)
   include(CheckIPOSupported)
   check_ipo_supported(RESULT _lto OUTPUT _why LANGUAGES CXX)

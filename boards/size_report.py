@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Builds troupe-node for every board and target and prints its size.
 
-For each row (a board built with a toolchain) the table gives the stripped
-file, its text + data (what `size` reports for the loaded image), the
-difference to the core on the same target, and each driver's share: the
-sizes of the symbols in its namespace, troupe::drivers::<driver>.
+For each row (a board built with a toolchain, linked against the target's
+shared libraries or fully statically: TROUPE_STATIC) the table gives the
+stripped file, its text + data (what `size` reports for the loaded image),
+the difference to the core on the same target linked the same way, and each
+driver's share: the sizes of the symbols in its namespace,
+troupe::drivers::<driver>.
 
     boards/size_report.py                     # every row, build/size-report
     boards/size_report.py --only core         # the rows of one board
@@ -26,17 +28,24 @@ import tempfile
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # (board, toolchain or None for the board's own, build type or None for the
-# board's own). The core on every target is the reference of the others.
+# board's own, linked statically). The core on every target is the
+# reference of the others. pioneer-p3dx has no static row: Debian's
+# libserial-dev holds no static archive.
 ROWS = [
-    ("core", "arm-linux-gnueabihf", None),
-    ("core", "aarch64-linux-gnu", None),
-    ("core", "powerpc-linux-gnu", None),
-    ("core", "native", "MinSizeRel"),
-    ("pioneer-p3dx", None, None),
-    ("diffbot-can", None, None),
-    ("ppc-node", None, None),
-    ("desktop", None, None),
-    ("host", None, "Release"),
+    ("core", "arm-linux-gnueabihf", None, False),
+    ("core", "aarch64-linux-gnu", None, False),
+    ("core", "powerpc-linux-gnu", None, False),
+    ("core", "native", "MinSizeRel", False),
+    ("pioneer-p3dx", None, None, False),
+    ("diffbot-can", None, None, False),
+    ("ppc-node", None, None, False),
+    ("desktop", None, None, False),
+    ("host", None, "Release", False),
+    ("core", "arm-linux-gnueabihf", None, True),
+    ("core", "aarch64-linux-gnu", None, True),
+    ("core", "powerpc-linux-gnu", None, True),
+    ("diffbot-can", None, None, True),
+    ("ppc-node", None, None, True),
 ]
 
 ARCH_NAMES = {
@@ -50,11 +59,14 @@ def run(args, **kwargs):
     return subprocess.run(args, check=True, text=True, **kwargs)
 
 
-def build(board, toolchain, build_type, root, jobs):
+def build(board, toolchain, build_type, static, root, jobs):
     """Configures and builds troupe-node; returns the build's board.json."""
     name = board if toolchain is None else f"{board}-{ARCH_NAMES.get(toolchain, toolchain)}"
+    if static:
+        name += "-static"
     folder = os.path.join(root, name)
-    args = ["cmake", "-S", SOURCE_DIR, "-B", folder, "-G", "Ninja", f"-DTROUPE_BOARD={board}"]
+    args = ["cmake", "-S", SOURCE_DIR, "-B", folder, "-G", "Ninja", f"-DTROUPE_BOARD={board}",
+            f"-DTROUPE_STATIC={'ON' if static else 'OFF'}"]
     if toolchain is not None:
         args.append(f"-DTROUPE_TOOLCHAIN={toolchain}")
     if build_type is not None:
@@ -89,6 +101,10 @@ def target_name(facts):
     return f"native {facts['deb_arch']}"
 
 
+def link_name(facts):
+    return "static" if facts.get("static") == "ON" else "dynamic"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build-root", default=os.path.join(SOURCE_DIR, "build", "size-report"))
@@ -97,7 +113,7 @@ def main():
     opts = parser.parse_args()
 
     rows = []
-    for board, toolchain, build_type in ROWS:
+    for board, toolchain, build_type, static in ROWS:
         if opts.only and board not in opts.only:
             continue
         compiler = None if toolchain in (None, "native") else f"{toolchain}-g++"
@@ -105,23 +121,25 @@ def main():
             print(f"size_report: skipping {board} for {toolchain}: {compiler} is not installed", file=sys.stderr)
             continue
         try:
-            facts = build(board, toolchain, build_type, opts.build_root, opts.jobs)
+            facts = build(board, toolchain, build_type, static, opts.build_root, opts.jobs)
         except subprocess.CalledProcessError as e:
             print(f"size_report: {board} ({toolchain or 'its toolchain'}) did not build: {e}", file=sys.stderr)
             return 1
         rows.append((facts, measure(facts)))
 
-    core = {target_name(f): m for f, m in rows if f["board"] == "core"}
-    print("| board | target | build | stripped file, bytes | text + data, bytes | vs core | drivers (symbols, bytes) |")
-    print("|---|---|---|---:|---:|---:|---|")
+    # The core of the same target, linked the same way, is each row's reference.
+    core = {(target_name(f), link_name(f)): m for f, m in rows if f["board"] == "core"}
+    print("| board | target | build | link | stripped file, bytes | text + data, bytes | vs core "
+          "| drivers (symbols, bytes) |")
+    print("|---|---|---|---|---:|---:|---:|---|")
     for facts, m in rows:
         target = target_name(facts)
         image = m["text"] + m["data"]
-        ref = core.get(target)
+        ref = core.get((target, link_name(facts)))
         delta = "" if ref is None or facts["board"] == "core" else f"{image - ref['text'] - ref['data']:+,}"
         drivers = ", ".join(f"{d} {n:,}" for d, n in m["drivers"].items()) or "none"
-        print(f"| {facts['board']} | {target} | {facts['build_type'] or 'none'} | {m['file']:,} | {image:,} "
-              f"| {delta} | {drivers} |")
+        print(f"| {facts['board']} | {target} | {facts['build_type'] or 'none'} | {link_name(facts)} "
+              f"| {m['file']:,} | {image:,} | {delta} | {drivers} |")
     return 0
 
 

@@ -28,4 +28,15 @@ if(CMAKE_CROSSCOMPILING AND _packages)
   include_directories(SYSTEM ${TROUPE_SYSROOT}/usr/include)
   set(TROUPE_SYSROOT_LIB ${TROUPE_SYSROOT}/usr/lib/${TROUPE_TARGET_TRIPLE})
   link_directories(${TROUPE_SYSROOT_LIB})
+  # A static node needs the drivers' libraries as archives. Debian ships
+  # some -dev packages without one (libserial-dev has only libserial.so):
+  # say so here rather than let the linker say "cannot find -lserial".
+  file(GLOB _archives ${TROUPE_SYSROOT_LIB}/*.a)
+  if(TROUPE_STATIC AND NOT _archives)
+    list(JOIN _packages ", " _names)
+    message(FATAL_ERROR "Board ${TROUPE_BOARD} with TROUPE_STATIC: its drivers link libraries of ${_names}, "
+                        "and these Debian packages hold no static archive (lib*.a) for ${TROUPE_TARGET_DEB_ARCH}. "
+                        "Build those libraries as static archives into ${TROUPE_SYSROOT_LIB}, or build the board "
+                        "without TROUPE_STATIC.")
+  endif()
 endif()

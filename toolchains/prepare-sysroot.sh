@@ -5,7 +5,10 @@
 # a sysroot folder inside a build tree, for cross builds that link target
 # libraries. Why not `apt-get install libserial-dev:armhf`: libserial-dev is
 # not Multi-Arch, so installing the target's removes the host's. The
-# packages are only downloaded and unpacked here, never installed.
+# packages are only downloaded and unpacked here, never installed. Their
+# shlibs files (which package provides which library, from which version)
+# are kept in DEST/.troupe-shlibs: a board's .deb names its dependencies
+# from them (boards/deb_depends.cmake).
 #
 #   toolchains/prepare-sysroot.sh armhf build/pioneer-p3dx/sysroot libserial-dev libserial1
 #
@@ -23,8 +26,11 @@ dest=$2
 shift 2
 packages="$*"
 stamp="$dest/.troupe-sysroot"
+# Changes when what this script leaves in DEST changes, so older sysroots
+# are made again.
+layout=2
 
-if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$arch: $packages" ]; then
+if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$layout $arch: $packages" ]; then
   exit 0
 fi
 if [ "$arch" = powerpc ]; then
@@ -64,8 +70,12 @@ fi
 
 rm -rf "$dest"
 mkdir -p "$dest"
+mkdir -p "$dest/.troupe-shlibs"
 for deb in "$work"/*.deb; do
   dpkg-deb -x "$deb" "$dest"
+  name=$(dpkg-deb -f "$deb" Package)
+  dpkg-deb -I "$deb" shlibs > "$dest/.troupe-shlibs/$name.shlibs" 2>/dev/null ||
+    rm -f "$dest/.troupe-shlibs/$name.shlibs"
 done
 # Absolute symbolic links (libfoo.so -> /usr/lib/...) would point into the
 # host; make them point inside the sysroot.
@@ -75,5 +85,5 @@ find "$dest" -type l | while read -r link; do
     /*) ln -sfn "$dest$target" "$link" ;;
   esac
 done
-echo "$arch: $packages" > "$stamp"
+echo "$layout $arch: $packages" > "$stamp"
 echo "$0: $packages ($arch) unpacked into $dest" >&2

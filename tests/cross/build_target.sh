@@ -1,8 +1,9 @@
 #!/bin/sh
-# build_target.sh SOURCE_DIR BUILD_DIR BOARD TOOLCHAIN
+# build_target.sh SOURCE_DIR BUILD_DIR BOARD TOOLCHAIN [static]
 #
 # The set-up step of the cross tests: configures, builds and packages one
 # board for one target (with the target-side test helpers), incrementally.
+# With "static", the node is linked fully statically (TROUPE_STATIC).
 # Exits 77, which ctest reports as skipped, when the cross compiler is not
 # installed.
 set -eu
@@ -11,13 +12,17 @@ src=$1
 dir=$2
 board=$3
 toolchain=$4
+static=OFF
+if [ "${5:-}" = static ]; then
+  static=ON
+fi
 
 if ! command -v "$toolchain-g++" >/dev/null 2>&1; then
   echo "skipped: $toolchain-g++ is not installed (apt-get install g++-$toolchain)"
   exit 77
 fi
 cmake -S "$src" -B "$dir" -G Ninja -DTROUPE_BOARD="$board" -DTROUPE_TOOLCHAIN="$toolchain" \
-  -DTROUPE_TARGET_TEST_TOOLS=ON -DTROUPE_WERROR=ON >/dev/null
+  -DTROUPE_TARGET_TEST_TOOLS=ON -DTROUPE_WERROR=ON -DTROUPE_STATIC="$static" >/dev/null
 # Two jobs at most: the machine's cores are shared (the build steps of the
 # cross tests hold a ctest resource lock, so only one runs at a time).
 cmake --build "$dir" -j 2

@@ -65,6 +65,7 @@ bool load_cross_build(const std::string& name, CrossBuild& out, std::string& why
   out.loader_prefix = json_value(text, "loader_prefix");
   out.sysroot_lib = json_value(text, "sysroot_lib");
   out.node = json_value(text, "node");
+  out.is_static = json_value(text, "static") == "ON";
   out.strip = json_value(text, "strip");
   out.nm = json_value(text, "nm");
   out.size = json_value(text, "size");

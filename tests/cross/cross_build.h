@@ -19,6 +19,7 @@ struct CrossBuild {
   std::string loader_prefix;  // /usr/arm-linux-gnueabihf (qemu -L)
   std::string sysroot_lib;    // target libraries of the drivers, or ""
   std::string node;           // troupe-node, unstripped
+  bool is_static = false;     // linked fully statically (TROUPE_STATIC)
   std::string strip, nm, size, readelf;
 
   /// A file of the build, by its path inside the build folder.
