@@ -240,14 +240,13 @@ void Node::route(uint32_t client, const wire::Message& msg, std::span<const uint
   }
 }
 
-bool Node::permitted(uint32_t client, DeviceId id, const wire::Message& msg, Right right) {
+bool Node::permitted(uint32_t client, DeviceId id, const wire::Message& msg, Right right, Right or_else) {
   const Rights* rights = server_->clients_[client].rights.get();
   const Device& dev = devices_[id];
-  if (rights == nullptr || rights->allows(right, dev.addr, dev.robot_name)) return true;
-  std::string text = std::string("this client may not ") + right_name(right) + " " +
-                     wire::format_address(dev.addr, dev.robot_name) + " (the node's \"clients\" config)";
-  log_debug("client %u: %s", client, text.c_str());
-  reply_status(client, *msg.header(), Kind::Nack, ErrorCode::Forbidden, text);
+  std::string refusal;
+  if (rights == nullptr || rights->permits(right, dev.addr, dev.robot_name, refusal)) return true;
+  if (or_else != right && rights->allows(or_else, dev.addr, dev.robot_name)) return true;
+  reply_status(client, *msg.header(), Kind::Nack, ErrorCode::Forbidden, refusal);
   return false;
 }
 
@@ -258,11 +257,8 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   auto delivery = open ? open->delivery() : wire::Delivery::Push;
   // Opening to read needs the right to read; opening only to write needs
   // the right to command or to request (each is checked again as it comes).
-  if (uint8_t(access) & uint8_t(wire::Access::Read)) {
-    if (!permitted(client, id, msg, Right::Read)) return;
-  } else if (const Rights* r = server_->clients_[client].rights.get();
-             r && !r->allows(Right::Command, dev.addr, dev.robot_name) &&
-             !permitted(client, id, msg, Right::Request)) {
+  const bool reads = uint8_t(access) & uint8_t(wire::Access::Read);
+  if (reads ? !permitted(client, id, msg, Right::Read) : !permitted(client, id, msg, Right::Command, Right::Request)) {
     return;
   }
   Reader* r = find_reader(dev, client);

@@ -201,9 +201,12 @@ class Node final : public TimerHandler {
   void handle_open(uint32_t client, DeviceId dev, const wire::Message& msg);
   void handle_close(uint32_t client, DeviceId dev, const wire::Message& msg);
   void handle_pull(uint32_t client, DeviceId dev, const wire::Message& msg);
-  /// Whether the client holds `right` on the device; if not, answers the
-  /// message Nack Forbidden.
-  bool permitted(uint32_t client, DeviceId dev, const wire::Message& msg, Right right);
+  /// Whether the client holds `right` (or `or_else`) on the device; if not,
+  /// answers the message Nack Forbidden.
+  bool permitted(uint32_t client, DeviceId dev, const wire::Message& msg, Right right) {
+    return permitted(client, dev, msg, right, right);
+  }
+  bool permitted(uint32_t client, DeviceId dev, const wire::Message& msg, Right right, Right or_else);
   void send_device_list(uint32_t client, const wire::Message& msg);
   void send_time_sync(uint32_t client, const wire::Message& msg);
   void send_hello(uint32_t client);

@@ -26,10 +26,10 @@ bool client_rights(const config::TrustedClient& entry, std::shared_ptr<const Rig
   const std::pair<Right, const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>*> lists[] = {
       {Right::Read, entry.read()}, {Right::Command, entry.command()}, {Right::Request, entry.request()}};
   if (!entry.read() && !entry.command() && !entry.request()) {
-    out = std::make_shared<const Rights>(Rights::all());
+    out = std::make_shared<const PatternRights>(PatternRights::all());
     return true;
   }
-  auto rights = std::make_shared<Rights>();
+  auto rights = std::make_shared<PatternRights>();
   for (const auto& [right, patterns] : lists) {
     if (patterns == nullptr) continue;
     for (const flatbuffers::String* text : *patterns) {
@@ -101,7 +101,7 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
   };
   options.rights_of = [rights](const std::string& peer) -> std::shared_ptr<const Rights> {
     auto it = rights->find(peer);
-    return it == rights->end() ? std::make_shared<const Rights>() : it->second;  // unknown: nothing
+    return it == rights->end() ? std::make_shared<const PatternRights>() : it->second;  // unknown: nothing
   };
   return true;
 }

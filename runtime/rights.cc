@@ -2,15 +2,16 @@
 
 #include <charconv>
 
+#include "wire/address.h"
+
 namespace troupe {
 
-const char* right_name(Right right) {
-  switch (right) {
-    case Right::Read: return "read";
-    case Right::Command: return "command";
-    case Right::Request: return "request";
-  }
-  return "?";
+bool Rights::permits(Right right, const wire::Address& addr, std::string_view robot_name,
+                     std::string& refusal) const {
+  if (allows(right, addr, robot_name)) return true;
+  refusal = std::string("this client may not ") + right_name(right) + " " + wire::format_address(addr, robot_name) +
+            " (the node's \"clients\" config)";
+  return false;
 }
 
 bool DevicePattern::parse(std::string_view text, DevicePattern& out, std::string& error) {
@@ -60,15 +61,15 @@ bool DevicePattern::matches(const wire::Address& addr, std::string_view robot_na
   return index < 0 || index == addr.index();
 }
 
-Rights Rights::all() {
-  Rights r;
+PatternRights PatternRights::all() {
+  PatternRights r;
   DevicePattern every;
   every.any_robot = true;
   for (Right right : {Right::Read, Right::Command, Right::Request}) r.grant(right, every);
   return r;
 }
 
-bool Rights::allows(Right right, const wire::Address& addr, std::string_view robot_name) const {
+bool PatternRights::allows(Right right, const wire::Address& addr, std::string_view robot_name) const {
   for (const DevicePattern& p : granted_[int(right)]) {
     if (p.matches(addr, robot_name)) return true;
   }

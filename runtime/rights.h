@@ -19,7 +19,21 @@ enum class Right : uint8_t {
   Request,  // send it requests (configuration, geometry, simulation control)
 };
 /// "read", "command", "request".
-const char* right_name(Right right);
+inline const char* right_name(Right right) {
+  return right == Right::Read ? "read" : right == Right::Command ? "command" : "request";
+}
+
+/// What one client may do. An interface, so that a node built without
+/// secure sessions (a small board's) links none of the pattern matching.
+class Rights {
+ public:
+  virtual ~Rights() = default;
+  /// Whether the client holds `right` on device `addr`, whose robot the
+  /// node calls `robot_name` (may be empty).
+  virtual bool allows(Right right, const wire::Address& addr, std::string_view robot_name) const = 0;
+  /// allows(), and when not, `refusal` says so for the client's Nack.
+  bool permits(Right right, const wire::Address& addr, std::string_view robot_name, std::string& refusal) const;
+};
 
 /// A set of devices as a person writes it: "[ROBOT/]INTERFACE:INDEX" like an
 /// address, where any part may be "*" ("position2d:*", "*/ranger:0"), or "*"
@@ -33,19 +47,18 @@ struct DevicePattern {
 
   /// Parses `text`; false with `error` saying what is wrong with it.
   static bool parse(std::string_view text, DevicePattern& out, std::string& error);
-  /// Whether device `addr`, whose robot the node calls `robot_name` (may be
-  /// empty), is one of the set.
   bool matches(const wire::Address& addr, std::string_view robot_name) const;
 };
 
-/// The rights of one client: per right, the devices it holds it on.
-class Rights {
+/// Rights as a node config grants them: per right, the device patterns it
+/// holds it on.
+class PatternRights final : public Rights {
  public:
   /// Every right on every device: a client listed without rights.
-  static Rights all();
+  static PatternRights all();
 
   void grant(Right right, DevicePattern devices) { granted_[int(right)].push_back(std::move(devices)); }
-  bool allows(Right right, const wire::Address& addr, std::string_view robot_name) const;
+  bool allows(Right right, const wire::Address& addr, std::string_view robot_name) const override;
 
  private:
   std::vector<DevicePattern> granted_[3];
