@@ -145,7 +145,8 @@ class SecureNode(unittest.TestCase):
   "clients": [ {{ "key": "laptop.pub" }}, {{ "key": "monitor.pub", "read": ["*"] }} ],
   "drivers": [
     {{ "driver_type": "kinematic", "driver": {{ "rate_hz": 20 }}, "provides": ["position2d:0"] }},
-    {{ "driver_type": "mapfile", "driver": {{ "file": {json.dumps(self.key("map.png"))}, "resolution": 0.1 }}, "provides": ["map:0"] }}
+    {{ "driver_type": "mapfile", "driver": {{ "file": {json.dumps(self.key("map.png"))}, "resolution": 0.1 }},
+      "provides": ["map:0"] }}
   ] }}""")
         self.node = helpers.NodeProcess([helpers.TROUPE_NODE, config], self.port).start()
         self.clients = []

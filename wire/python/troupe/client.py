@@ -9,7 +9,9 @@ The connection goes through the states of the C++ connection core
 (wire/connection/connection.h; wire/README.md, "Connection lifecycle"), by
 the same names: idle, waiting, connecting (every address of the host, in
 order, RFC 8305 style), handshake, up. This is its own implementation of
-them, not a binding.
+them, not a binding. Given an identity it speaks secure sessions (Noise IK,
+troupe.noise): the handshake comes before the Hello, and every byte after it
+travels sealed.
 
 Single-threaded like the C++ client: call it from one thread. Times are
 seconds (float) unless a name says otherwise (time_us, clock_offset_us).
@@ -190,7 +192,7 @@ class Client:
         self._out = bytearray()   # frames to send (plaintext in a secure session)
         self._wire = bytearray()  # a secure session's bytes to send: Noise messages
         self._session = None      # a secure session's noise.SecureSession, per connection
-        self._prologue_sent = False
+        self._hello_sent = False
         self._seq = 0
         self._attempts: list[_Attempt] = []
         self._stagger_at = 0.0    # connecting: the next address starts
@@ -586,19 +588,19 @@ class Client:
     def _on_connected(self) -> None:
         """TCP is up. In a secure session the handshake's message 1 goes out and
         the Hello waits for the node's answer; else the Hello goes at once."""
-        self._prologue_sent = False
+        self._hello_sent = False
         if self.secure:
             from . import noise
             self._session = noise.SecureSession(self._identity, self._node_key)
             self._wire += self._session.begin()
             self._flush()
             return
-        self._send_prologue()
+        self._send_hello()
 
-    def _send_prologue(self) -> None:
+    def _send_hello(self) -> None:
         """Hello and the first TimeSync go out before anything queued while
         connecting."""
-        self._prologue_sent = True
+        self._hello_sent = True
         queued, self._out = self._out, bytearray()
         w = MessageWriter()
         b = w.start()
@@ -701,8 +703,8 @@ class Client:
         except SecureSessionError as e:
             self._disconnect(f"bad bytes from {self.target}: {e}")
             return None
-        if self._session.ready and not self._prologue_sent:
-            self._send_prologue()
+        if self._session.ready and not self._hello_sent:
+            self._send_hello()
             if self._sock is None:
                 return None
         return plain
