@@ -14,6 +14,7 @@ import time
 BINARY_DIR = os.environ.get("TROUPE_BINARY_DIR", "")
 SOURCE_DIR = os.environ.get("TROUPE_SOURCE_DIR", "")
 TROUPE_NODE = os.path.join(BINARY_DIR, "bin", "troupe-node")
+TROUPE_CLI = os.path.join(BINARY_DIR, "bin", "troupe")
 ROOM_NODE = os.path.join(BINARY_DIR, "tests", "python", "room_node")
 KINEMATIC_CONFIG = os.path.join(SOURCE_DIR, "examples", "nodes", "kinematic.json")
 WANDER = os.path.join(SOURCE_DIR, "examples", "python", "wander.py")
@@ -41,13 +42,36 @@ class NodeProcess:
         self.proc: subprocess.Popen | None = None
 
     def start(self) -> "NodeProcess":
-        self.proc = subprocess.Popen(self.args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        # Its log goes to a file, read while it runs (what it refused and why)
+        # and when something fails: a pipe nobody reads would stall the node
+        # once full.
+        self.log = tempfile.TemporaryFile()
+        self.final_log = ""
+        self.proc = subprocess.Popen(self.args, stdout=subprocess.DEVNULL, stderr=self.log)
         deadline = time.monotonic() + 10
         while not listening(self.port):
             if self.proc.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError(f"{self.args[0]} did not start: {self.proc.stderr.read().decode()}")
+                self.stop()
+                raise RuntimeError(f"{self.args[0]} did not start: {self.stderr()}")
             time.sleep(0.02)
         return self
+
+    def stderr(self) -> str:
+        """What the node logged so far (all of it once stopped)."""
+        if self.log.closed:
+            return self.final_log
+        self.log.seek(0)
+        return self.log.read().decode(errors="replace")
+
+    def wait_for_log(self, text: str, timeout: float = 10.0) -> bool:
+        """Whether the node's log has `text` (it may log it a moment after the
+        client saw the effect); `timeout` s bounds a failing test."""
+        deadline = time.monotonic() + timeout
+        while text not in self.stderr():
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.02)
+        return True
 
     def stop(self) -> int:
         if self.proc is None:
@@ -58,8 +82,9 @@ class NodeProcess:
         except subprocess.TimeoutExpired:
             self.proc.kill()
             rc = self.proc.wait()
-        self.proc.stderr.close()
         self.proc = None
+        self.final_log = self.stderr()
+        self.log.close()
         return rc
 
     def __enter__(self) -> "NodeProcess":

@@ -13,12 +13,18 @@ The message classes under troupe.wire are generated at build time by
 `flatc --python` from wire/schemas/*.fbs; this package adds framing, a
 verifier (the Python FlatBuffers runtime has none), the client and one proxy
 per interface, shaped like the C++ client (wire/client/).
+
+Secure sessions (Noise IK, wire/README.md) need PyNaCl: troupe.noise is
+imported only by a client given an identity, so a plain client runs without it.
+
+    client = troupe.Client("robot7.local", identity="laptop", node_key="robot7.pub")
 """
 
 from .address import (DEFAULT_PORT, Address, DeviceSpec, format_address, interface_from_name, interface_name,
                       parse_device, parse_host, robot_number)
 from .client import Client, DeviceEntry, Reply
 from .frame import FrameReader
+from .keys import KeyFileError
 from .message import PROTOCOL_VERSION, Header, Message, MessageWriter, decode, kind_name, now_us
 from .proxies_motion import ActuatorProxy, Position2dProxy
 from .proxies_sensors import (Blob, BlobfinderProxy, BumperProxy, Detection, FiducialProxy, ImuProxy, PowerProxy,
@@ -30,8 +36,8 @@ from .verify import Limits, Verifier, VerifyError
 __all__ = [
     "DEFAULT_PORT", "PROTOCOL_VERSION", "ActuatorProxy", "Address", "Blob", "BlobfinderProxy", "BumperProxy",
     "Client", "Detection", "DeviceEntry", "DeviceSpec", "FiducialProxy", "FrameReader", "GridMap", "Header",
-    "Hypothesis", "ImuProxy", "Limits", "LocalizeProxy", "MapProxy", "Message", "MessageWriter", "Pose2", "Pose3",
-    "Position2dProxy", "PowerProxy", "Proxy", "RangerProxy", "Reply", "SimulationProxy", "Vec3", "Verifier",
-    "VerifyError", "decode", "format_address", "interface_from_name", "interface_name", "kind_name", "now_us",
-    "parse_device", "parse_host", "robot_number",
+    "Hypothesis", "ImuProxy", "KeyFileError", "Limits", "LocalizeProxy", "MapProxy", "Message", "MessageWriter",
+    "Pose2", "Pose3", "Position2dProxy", "PowerProxy", "Proxy", "RangerProxy", "Reply", "SimulationProxy", "Vec3",
+    "Verifier", "VerifyError", "decode", "format_address", "interface_from_name", "interface_name", "kind_name",
+    "now_us", "parse_device", "parse_host", "robot_number",
 ]

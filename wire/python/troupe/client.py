@@ -9,7 +9,9 @@ The connection goes through the states of the C++ connection core
 (wire/connection/connection.h; wire/README.md, "Connection lifecycle"), by
 the same names: idle, waiting, connecting (every address of the host, in
 order, RFC 8305 style), handshake, up. This is its own implementation of
-them, not a binding.
+them, not a binding. Given an identity it speaks secure sessions (Noise IK,
+troupe.noise): the handshake comes before the Hello, and every byte after it
+travels sealed.
 
 Single-threaded like the C++ client: call it from one thread. Times are
 seconds (float) unless a name says otherwise (time_us, clock_offset_us).
@@ -38,6 +40,7 @@ from troupe.wire.Kind import Kind
 
 from .address import DEFAULT_PORT, Address, format_address, parse_device, robot_number
 from .frame import FrameReader
+from .keys import find_known_node, known_nodes_path, read_public_key, read_secret_key
 from .message import PROTOCOL_VERSION, Message, MessageWriter, decode, now_us
 from .verify import Limits, Verifier
 
@@ -104,6 +107,11 @@ class Reply:
     def ok(self) -> bool:
         return self.status == Reply.ACK
 
+    @property
+    def code_name(self) -> str:
+        """The Nack's ErrorCode by name ("Forbidden", "NoSuchDevice", ...)."""
+        return _ERROR_NAMES.get(self.code, "Unknown")
+
     def __repr__(self) -> str:
         return f"<Reply {self.status} {self.text!r}>"
 
@@ -133,7 +141,8 @@ class Client:
                  limits: Limits = Limits(), reconnect: bool = True, reconnect_min: float = 0.1,
                  reconnect_max: float = 2.0, udp_data: bool = False, keepalive: float = 2.0,
                  keepalive_timeout: float = 6.0, connect_timeout: float = 10.0,
-                 resolver: Callable[[str, int], list[tuple[int, tuple]]] = resolve):
+                 resolver: Callable[[str, int], list[tuple[int, tuple]]] = resolve,
+                 identity: str | None = None, node_key: str | None = None):
         """`name` shows in the node's log; `reconnect` re-establishes a lost
         connection by itself, waiting from reconnect_min doubling to
         reconnect_max seconds between attempts; `udp_data` asks the node to
@@ -142,7 +151,15 @@ class Client:
         never), and a node that answers nothing within `keepalive_timeout` s
         of it is dropped. An attempt (every address, and the handshake) gives
         up after `connect_timeout` s. `resolver(host, port)` gives the
-        addresses to try (see resolve())."""
+        addresses to try (see resolve()).
+
+        A secure session (wire/README.md, "Secure sessions"): `identity` is our
+        secret key file (`troupe keygen NAME` writes one; refused when others
+        can read it), `node_key` the node's public key (its NAME.pub, or 64 hex
+        digits; default: the node's line in the known-nodes file, see
+        troupe.keys.known_nodes_path()). Raises troupe.KeyFileError when a key
+        cannot be read, ImportError without PyNaCl. Data then stays on TCP
+        (`udp_data` is ignored: a secure node refuses the UDP path)."""
         self.host, self.port, self.name = host, port, name
         self.limits = limits
         self.reconnect, self.reconnect_min, self.reconnect_max = reconnect, reconnect_min, reconnect_max
@@ -150,6 +167,9 @@ class Client:
         self.keepalive, self.keepalive_timeout, self.connect_timeout = keepalive, keepalive_timeout, connect_timeout
         self.resolver = resolver
         self.target = f"[{host}]:{port}" if ":" in host and not host.startswith("[") else f"{host}:{port}"
+        self._identity = self._node_key = None
+        if identity is not None or node_key is not None:
+            self._read_keys(identity, node_key)
         #: The last problem: resolution, connection, a Nack, an Error from the node.
         self.error = ""
         #: The node's name from its Hello.
@@ -158,6 +178,9 @@ class Client:
         self.clock_offset_us = 0
         #: Successful connections so far (1 after the first connect).
         self.connections = 0
+        #: The last Nack the node sent, asked for or not (a refused command's
+        #: comes unasked): a Reply with its code (Reply.code_name) and text.
+        self.last_nack: Reply | None = None
         self._verifier = Verifier(limits=limits)
         self._writer = MessageWriter()
         self._state = IDLE
@@ -166,7 +189,10 @@ class Client:
         self._udp: socket.socket | None = None
         self._udp_port = 0
         self._reader = FrameReader(limits.max_frame_bytes)
-        self._out = bytearray()
+        self._out = bytearray()   # frames to send (plaintext in a secure session)
+        self._wire = bytearray()  # a secure session's bytes to send: Noise messages
+        self._session = None      # a secure session's noise.SecureSession, per connection
+        self._hello_sent = False
         self._seq = 0
         self._attempts: list[_Attempt] = []
         self._stagger_at = 0.0    # connecting: the next address starts
@@ -209,6 +235,16 @@ class Client:
     @property
     def connected(self) -> bool:
         return self._state == UP
+
+    @property
+    def secure(self) -> bool:
+        """Whether this client speaks secure sessions (it was given an identity)."""
+        return self._identity is not None
+
+    @property
+    def node_key(self) -> bytes | None:
+        """The node's public key a secure session expects (32 bytes)."""
+        return self._node_key
 
     def shutdown(self) -> None:
         """Closes the connection for good (no reconnect)."""
@@ -363,7 +399,7 @@ class Client:
         """(fd, poll events) to wait on, for a caller's own poll loop."""
         fds = []
         if self._sock is not None:
-            events = select.POLLIN | (select.POLLOUT if self._out else 0)
+            events = select.POLLIN | (select.POLLOUT if self._unsent() else 0)
             fds.append((self._sock.fileno(), events))
             if self._udp is not None:
                 fds.append((self._udp.fileno(), select.POLLIN))
@@ -465,7 +501,7 @@ class Client:
         self._state = HANDSHAKE
         self._last_rx = time.monotonic()
         self._reader = FrameReader(self.limits.max_frame_bytes)
-        if self.udp_data and self._udp is None:
+        if self.udp_data and self._udp is None and not self.secure:
             # One socket for both families (IPv6 with IPv4-mapped addresses).
             try:
                 self._udp = socket.socket(socket.AF_INET6, socket.SOCK_DGRAM)
@@ -538,9 +574,33 @@ class Client:
         _open.OpenAddDelivery(b, delivery)
         return _open.OpenEnd(b)
 
+    def _read_keys(self, identity: str | None, node_key: str | None) -> None:
+        """The keys of a secure session, read once (as the CLI reads them before
+        connecting); the known-nodes file names the node's when node_key does not."""
+        if identity is None:
+            raise ValueError("a secure session needs identity=FILE (our secret key) with node_key")
+        # Imported here: a plain client runs without PyNaCl.
+        from . import noise
+        self._node_key = (read_public_key(node_key) if node_key is not None
+                          else find_known_node(known_nodes_path(), self.target))
+        self._identity = noise.keypair_from_secret(read_secret_key(identity))
+
     def _on_connected(self) -> None:
-        """The transport is up: Hello and the first TimeSync go out before
-        anything queued while connecting."""
+        """TCP is up. In a secure session the handshake's message 1 goes out and
+        the Hello waits for the node's answer; else the Hello goes at once."""
+        self._hello_sent = False
+        if self.secure:
+            from . import noise
+            self._session = noise.SecureSession(self._identity, self._node_key)
+            self._wire += self._session.begin()
+            self._flush()
+            return
+        self._send_hello()
+
+    def _send_hello(self) -> None:
+        """Hello and the first TimeSync go out before anything queued while
+        connecting."""
+        self._hello_sent = True
         queued, self._out = self._out, bytearray()
         w = MessageWriter()
         b = w.start()
@@ -577,6 +637,8 @@ class Client:
         self.error = why
         self._reader = FrameReader(self.limits.max_frame_bytes)
         self._out.clear()
+        self._wire.clear()
+        self._session = None
         if self._awaited_seq and self._awaited is None:
             self._awaited = Reply(Reply.DISCONNECTED, why)
 
@@ -601,14 +663,19 @@ class Client:
             except (BlockingIOError, InterruptedError):
                 return
             except OSError as e:
-                self._disconnect(f"connection to {self.host} lost: {e.strerror}")
+                self._disconnect(self._in_handshake(f"connection to {self.host} lost: {e.strerror}"))
                 return
             self._last_rx, self._ping_sent = time.monotonic(), 0.0
             if not data:
                 # Keep the node's own explanation if it sent one before closing.
                 keep = self.error.startswith("node closed")
-                self._disconnect(self.error if keep else f"connection to {self.host} closed by the node")
+                self._disconnect(self.error if keep else
+                                 self._in_handshake(f"connection to {self.host} closed by the node"))
                 return
+            if self._session is not None:
+                data = self._open_secure(data)
+                if data is None:
+                    return
             self._reader.feed(data)
             while (frame := self._reader.next()) is not None:
                 self._dispatch(frame)
@@ -617,6 +684,30 @@ class Client:
             if self._reader.too_large:
                 self._disconnect(f"node sent a frame over the limit ({self._reader.announced_bytes} bytes)")
                 return
+
+    def _in_handshake(self, why: str) -> str:
+        """`why`, and what a connection ending in the secure handshake can mean:
+        a secure node answers nothing to a handshake it refuses."""
+        if self._session is None or self._session.ready:
+            return why
+        return (why + " during the secure handshake: the node's key differs from the one we know for it (its key "
+                "changed, or another node answers), or it does not accept our key, or it does not speak secure "
+                "sessions")
+
+    def _open_secure(self, data: bytes) -> bytes | None:
+        """The frame bytes that the Noise messages in `data` carried; None when
+        the session failed (the connection is then dropped with the reason)."""
+        from .noise import SecureSessionError
+        try:
+            plain = self._session.inbound(data)
+        except SecureSessionError as e:
+            self._disconnect(f"bad bytes from {self.target}: {e}")
+            return None
+        if self._session.ready and not self._hello_sent:
+            self._send_hello()
+            if self._sock is None:
+                return None
+        return plain
 
     def _read_udp(self) -> None:
         while True:
@@ -669,10 +760,11 @@ class Client:
         elif kind in (Kind.Ack, Kind.Nack, Kind.DeviceList):
             if kind == Kind.Nack:
                 self.error = describe_error(msg)
+                e = msg.body_as(_err.Error)
+                self.last_nack = Reply(Reply.NACK, self.error, msg, e.Code() if e else ErrorCode.Unknown)
             if self._awaited_seq and h.seq == self._awaited_seq and self._awaited is None:
                 if kind == Kind.Nack:
-                    e = msg.body_as(_err.Error)
-                    self._awaited = Reply(Reply.NACK, self.error, msg, e.Code() if e else ErrorCode.Unknown)
+                    self._awaited = self.last_nack
                 else:
                     self._awaited = Reply(Reply.ACK, message=msg)
         elif kind == Kind.Error:
@@ -697,18 +789,33 @@ class Client:
         for handler in list(self._handlers.values()):
             handler(msg)
 
+    def _unsent(self) -> bool:
+        """Bytes the socket can take now (a secure session's frames wait for its
+        handshake: no point waiting for POLLOUT for them)."""
+        if self._session is None:
+            return bool(self._out)
+        return bool(self._wire) or (self._session.ready and bool(self._out))
+
     def _flush(self) -> None:
         if self._sock is None:
             return
-        while self._out:
+        buf = self._out
+        if self._session is not None:
+            # Frames wait in _out until the handshake is done, then go out
+            # sealed; _wire holds the Noise messages the socket has not taken.
+            if self._session.ready and self._out:
+                self._wire += self._session.seal(self._out)
+                self._out.clear()
+            buf = self._wire
+        while buf:
             try:
-                n = self._sock.send(self._out)
+                n = self._sock.send(buf)
             except (BlockingIOError, InterruptedError):
                 return
             except OSError as e:
-                self._disconnect(f"connection to {self.host} lost: {e.strerror}")
+                self._disconnect(self._in_handshake(f"connection to {self.host} lost: {e.strerror}"))
                 return
-            del self._out[:n]
+            del buf[:n]
 
     def _queue(self, frame: bytes) -> bool:
         """Sends a frame; while connecting it waits and goes out after the Hello."""
