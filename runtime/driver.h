@@ -44,13 +44,20 @@ struct DriverSetup {
   std::span<const DeviceId> required;
 };
 
+/// Why a driver refused to set up, which decides what the node says last:
+/// the config must change, or the machine lacks what the driver drives
+/// (no such CAN interface, no CAN in the kernel) and the same config works
+/// where it is there.
+enum class SetupFailure : uint8_t { Config, MissingDevice };
+
 class Driver : public FdHandler, public TimerHandler {
  public:
   virtual ~Driver() = default;
 
   /// Reads options, opens hardware, registers descriptors and timers. On
   /// failure returns false with `error` saying what and where (the node then
-  /// refuses to start: never half-configured).
+  /// refuses to start: never half-configured), and `setup_failure_` set to
+  /// MissingDevice when the hardware is not there rather than misconfigured.
   virtual bool setup(Node& node, const DriverSetup& setup, std::string& error) = 0;
 
   /// The newest command for one of this driver's devices. Commands that
@@ -77,6 +84,7 @@ class Driver : public FdHandler, public TimerHandler {
 
  protected:
   Node* node_ = nullptr;
+  SetupFailure setup_failure_ = SetupFailure::Config;
   friend class Node;
 };
 

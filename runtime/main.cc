@@ -150,9 +150,12 @@ int main(int argc, char** argv) {
 #endif
 
   troupe::Node node(options);
-  if (!troupe::build_node(node, cfg, error)) {
+  troupe::SetupFailure failure = troupe::SetupFailure::Config;
+  if (!troupe::build_node(node, cfg, error, &failure)) {
     troupe::log_error("%s", error.c_str());
-    troupe::log_error("not starting: the config must be fixed first");
+    troupe::log_error(failure == troupe::SetupFailure::MissingDevice
+                          ? "not starting: a device it drives is not there (the config is fine)"
+                          : "not starting: the config must be fixed first");
     return 1;
   }
   if (!node.start(error)) {

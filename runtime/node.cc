@@ -50,9 +50,13 @@ DeviceId Node::add_device(const wire::Address& addr, Driver* driver, std::string
   return id;
 }
 
-bool Node::add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error) {
+bool Node::add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error,
+                      SetupFailure* failure) {
   driver->node_ = this;
-  if (!driver->setup(*this, setup, error)) return false;
+  if (!driver->setup(*this, setup, error)) {
+    if (failure != nullptr) *failure = driver->setup_failure_;
+    return false;
+  }
   drivers_.push_back(std::move(driver));
   return true;
 }

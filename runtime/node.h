@@ -76,8 +76,10 @@ class Node final : public TimerHandler {
   /// `robot_name` is what `troupe ls` shows before the interface ("r0").
   DeviceId add_device(const wire::Address& addr, Driver* driver, std::string_view driver_name,
                       std::string_view robot_name = {});
-  /// Takes ownership of a driver and calls its setup(); false with `error`.
-  bool add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error);
+  /// Takes ownership of a driver and calls its setup(); false with `error`
+  /// and, when given, `failure` saying whether its hardware is missing.
+  bool add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error,
+                  SetupFailure* failure = nullptr);
   /// Opens the listening sockets. False with `error` (e.g. port in use).
   bool start(std::string& error);
   /// Runs until stop() (or a signal handler calling it).

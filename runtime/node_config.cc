@@ -124,7 +124,7 @@ Node::Options node_options(const config::NodeConfig& cfg) {
   return o;
 }
 
-bool build_node(Node& node, const LoadedConfig& cfg, std::string& error) {
+bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFailure* failure) {
   const auto* instances = cfg.root->drivers();
   if (instances == nullptr || instances->size() == 0) {
     log_warn("%s: no drivers: the node serves no devices", cfg.path.c_str());
@@ -205,7 +205,7 @@ bool build_node(Node& node, const LoadedConfig& cfg, std::string& error) {
     setup.provides = p.provides;
     setup.required = p.required;
     std::string why;
-    if (!node.add_driver(std::move(created[i]), setup, why)) {
+    if (!node.add_driver(std::move(created[i]), setup, why, failure)) {
       error = where(cfg.path, i, p.name) + ": " + why;
       return false;
     }

@@ -63,8 +63,9 @@ Node::Options node_options(const config::NodeConfig& cfg);
 
 /// Registers every instance's devices, then creates and sets up each driver
 /// in order. On the first failure returns false, `error` naming the file, the
-/// instance and the problem; the caller must not start the node.
-bool build_node(Node& node, const LoadedConfig& cfg, std::string& error);
+/// instance and the problem, and `failure` (when given) whether a driver
+/// found its hardware missing; the caller must not start the node.
+bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFailure* failure = nullptr);
 
 /// Names of the drivers compiled into this board, comma-separated.
 std::string board_driver_names();
