@@ -68,6 +68,13 @@ class Driver : public FdHandler, public TimerHandler {
   /// node with `token`. The default refuses it as unsupported.
   virtual void on_request(DeviceId device, const wire::Message& request, RequestToken token);
 
+  /// A client opened `device`, one of this driver's, for reading when nobody
+  /// read it. The node then hands the new reader the device's stored
+  /// samples: a driver that publishes only while a device is read
+  /// publishes the current sample now (or drops what is stale with
+  /// Node::forget_data), so that the first sample a reader sees is current.
+  virtual void on_read_start(DeviceId /*device*/) {}
+
   /// Data published by a device this driver subscribed to (Node::subscribe).
   virtual void on_data(DeviceId /*source*/, const wire::Message& /*data*/) {}
 

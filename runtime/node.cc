@@ -101,6 +101,10 @@ bool Node::has_readers(DeviceId device) const {
   return !dev.readers.empty() || !dev.subscribers.empty();
 }
 
+void Node::forget_data(DeviceId device) {
+  for (DataSlot& slot : devices_[device].slots) slot.frame.clear();  // keeps the capacity
+}
+
 void Node::subscribe(DeviceId source, Driver* driver) {
   std::vector<Driver*>& subs = devices_[source].subscribers;
   if (std::find(subs.begin(), subs.end(), driver) == subs.end()) subs.push_back(driver);
@@ -245,6 +249,11 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   auto delivery = open ? open->delivery() : wire::Delivery::Push;
   Reader* r = find_reader(dev, client);
   if (r == nullptr) {
+    // Before the reader is added: what the driver publishes now is stored
+    // and reaches the reader below, once, after the Ack.
+    if (!has_readers(id) && (uint8_t(access) & uint8_t(wire::Access::Read)) && dev.driver != nullptr) {
+      dev.driver->on_read_start(id);
+    }
     dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});
     r = &dev.readers.back();
     auto& c = server_->clients_[client];

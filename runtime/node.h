@@ -111,6 +111,10 @@ class Node final : public TimerHandler {
   /// True while some client (or a driver) reads the device's data: a driver
   /// may skip computing data nobody reads.
   bool has_readers(DeviceId device) const;
+  /// Drops the device's stored samples (a new reader gets nothing until the
+  /// next publish): for a driver whose stored data went stale while nobody
+  /// read the device.
+  void forget_data(DeviceId device);
 
   /// Delivers `source`'s data to `driver->on_data()` (a driver's "requires").
   void subscribe(DeviceId source, Driver* driver);
