@@ -21,16 +21,10 @@ const std::string kSource = TROUPE_SOURCE_DIR;
 const std::string kPioneer = kSource + "/examples/nodes/pioneer-p3dx.json";
 const std::string kKinematic = kSource + "/examples/nodes/kinematic.json";
 
-struct Result {
-  int rc = -1;
-  std::string out, err;
-};
+using Result = troupe::testing::ProgramResult;
 
-// Runs a shell command line to its end (bounded: a hang fails the test).
-Result run(const std::string& command) {
-  troupe::testing::ProgramResult r = troupe::testing::run_to_end({"/bin/sh", "-c", command}, 60000);
-  return {r.status, r.out, r.err};
-}
+// A shell command line run to its end (bounded: a hang fails the test).
+Result run(const std::string& command) { return troupe::testing::run_to_end({"/bin/sh", "-c", command}, 60000); }
 
 // The value of `key` in the printed config, after the first `after`
 // (e.g. an instance's "driver_type"): the text up to the end of its line.
@@ -58,11 +52,11 @@ class NodeConfig : public ::testing::Test {
 
 TEST_F(NodeConfig, SetMovesThePioneerToAnotherSerialPortAndPrintConfigShowsIt) {
   Result before = run(kNode + " " + kPioneer + " --print-config");
-  ASSERT_EQ(before.rc, 0) << before.err;
+  ASSERT_EQ(before.status, 0) << before.err;
   EXPECT_EQ(value_after(before.out, "\"p2os\"", "port"), "\"/dev/ttyS0\"") << before.out;
 
   Result after = run(kNode + " " + kPioneer + " --set p2os.port=/dev/ttyUSB0 --print-config");
-  ASSERT_EQ(after.rc, 0) << after.err;
+  ASSERT_EQ(after.status, 0) << after.err;
   EXPECT_EQ(value_after(after.out, "\"p2os\"", "port"), "\"/dev/ttyUSB0\"") << after.out;
   // Nothing else moved: the laser keeps its port, the node its settings.
   EXPECT_EQ(value_after(after.out, "\"sicklms200\"", "port"), "\"/dev/ttyUSB0\"");
@@ -74,7 +68,7 @@ TEST_F(NodeConfig, SetMovesThePioneerToAnotherSerialPortAndPrintConfigShowsIt) {
   // What it prints is a config the node reads back as the same.
   std::string printed = write("printed.json", after.out);
   Result again = run(kNode + " " + printed + " --print-config");
-  ASSERT_EQ(again.rc, 0) << again.err;
+  ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_EQ(again.out, after.out);
 }
 
@@ -82,7 +76,7 @@ TEST_F(NodeConfig, SetsApplyInOrderAndFlagsShowInPrintConfig) {
   Result r = run(kNode + " " + kPioneer +
                  " --set sicklms200.baud=9600 --set sicklms200.baud=500000 --set name=lab-pioneer"
                  " --set log_level=Debug --port 7001 --listen ::1 --print-config");
-  ASSERT_EQ(r.rc, 0) << r.err;
+  ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(value_after(r.out, "\"sicklms200\"", "baud"), "500000");
   EXPECT_EQ(value_after(r.out, "{", "name"), "\"lab-pioneer\"");
   EXPECT_EQ(value_after(r.out, "{", "log_level"), "\"Debug\"");
@@ -95,7 +89,7 @@ TEST_F(NodeConfig, SetsApplyInOrderAndFlagsShowInPrintConfig) {
 TEST_F(NodeConfig, SetWorksFromTheUnitsArgumentVariable) {
   Result r = run("TROUPE_NODE_ARGS='--set p2os.port=/dev/ttyUSB1 --set p2os.sonar=false'; " + kNode + " " +
                  kPioneer + " $TROUPE_NODE_ARGS --print-config");
-  ASSERT_EQ(r.rc, 0) << r.err;
+  ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(value_after(r.out, "\"p2os\"", "port"), "\"/dev/ttyUSB1\"");
   EXPECT_EQ(value_after(r.out, "\"p2os\"", "sonar"), "false");
 }
@@ -122,7 +116,7 @@ TEST_F(NodeConfig, EveryBadSetSaysWhatIsWrong) {
   };
   for (const Case& c : cases) {
     Result r = run(kNode + " " + kPioneer + " --set '" + c.set + "' --print-config");
-    EXPECT_EQ(r.rc, 2) << c.set << ": " << r.err;
+    EXPECT_EQ(r.status, 2) << c.set << ": " << r.err;
     EXPECT_EQ(r.out, "") << c.set;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     for (const char* part : c.says) EXPECT_NE(r.err.find(part), std::string::npos) << c.set << ": " << r.err;
@@ -134,14 +128,14 @@ TEST_F(NodeConfig, AnInstanceNameTwoInstancesShareIsRefused) {
     { "driver_type": "kinematic", "provides": ["position2d:0"] },
     { "driver_type": "kinematic", "provides": ["position2d:1"] } ] })");
   Result r = run(kNode + " " + path + " --set kinematic.max_speed=0.5 --print-config");
-  EXPECT_EQ(r.rc, 2);
+  EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("drivers[0] and drivers[1]"), std::string::npos) << r.err;
   // Named, each is reached; the one without options gets them.
   path = write("named.json", R"({ "drivers": [
     { "driver_type": "kinematic", "name": "left", "provides": ["position2d:0"] },
     { "driver_type": "kinematic", "name": "right", "provides": ["position2d:1"] } ] })");
   r = run(kNode + " " + path + " --set right.max_speed=0.5 --print-config");
-  ASSERT_EQ(r.rc, 0) << r.err;
+  ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(value_after(r.out, "\"left\"", "max_speed"), "0.5") << r.out;  // right's block follows left's name
   EXPECT_EQ(value_after(r.out, "\"driver_type\": \"kinematic\"", "max_speed"), "1") << r.out;
 }
@@ -149,7 +143,7 @@ TEST_F(NodeConfig, AnInstanceNameTwoInstancesShareIsRefused) {
 TEST_F(NodeConfig, PrintConfigOfABadConfigFailsSayingWhy) {
   std::string path = write("bad.json", R"({ "drivers": [ { "driver_type": "warpdrive" } ] })");
   Result r = run(kNode + " " + path + " --print-config");
-  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.out, "");
   EXPECT_NE(r.err.find("bad.json:1:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("driver 'warpdrive' is not compiled into board host"), std::string::npos) << r.err;
@@ -160,15 +154,15 @@ TEST_F(NodeConfig, PrintConfigOfABadConfigFailsSayingWhy) {
 TEST_F(NodeConfig, CompiledConfigLoadsAndRunsAsTheJson) {
   const std::string bin = dir_ + "/kinematic.bin";
   Result c = run(kTroupe + " config compile " + kKinematic + " --board host -o " + bin);
-  ASSERT_EQ(c.rc, 0) << c.err;
+  ASSERT_EQ(c.status, 0) << c.err;
   EXPECT_EQ(troupe::testing::read_text(bin), troupe::testing::read_text(std::string(TROUPE_BINARY_DIR) +
                                                                            "/configs/kinematic.bin"));
 
   for (const std::string set : {"", " --set kinematic.max_speed=0.25 --set port=7002"}) {
     Result from_json = run(kNode + " " + kKinematic + set + " --print-config");
     Result from_bin = run(kNode + " " + bin + set + " --print-config");
-    ASSERT_EQ(from_json.rc, 0) << from_json.err;
-    ASSERT_EQ(from_bin.rc, 0) << from_bin.err;
+    ASSERT_EQ(from_json.status, 0) << from_json.err;
+    ASSERT_EQ(from_bin.status, 0) << from_bin.err;
     EXPECT_EQ(from_bin.out, from_json.out);
   }
 
@@ -179,7 +173,7 @@ TEST_F(NodeConfig, CompiledConfigLoadsAndRunsAsTheJson) {
   ASSERT_TRUE(node.start({kNode, bin, "--port", std::to_string(port)}, dir_, "troupe-node", error)) << error;
   ASSERT_TRUE(troupe::testing::wait_for_listener(port, 5)) << node.err();
   Result ls = run(kTroupe + " ls 127.0.0.1:" + std::to_string(port));
-  EXPECT_EQ(ls.rc, 0) << ls.err;
+  EXPECT_EQ(ls.status, 0) << ls.err;
   EXPECT_NE(ls.out.find("position2d:0"), std::string::npos) << ls.out;
   EXPECT_EQ(node.stop(), 0) << node.err();
 }
@@ -188,9 +182,9 @@ TEST_F(NodeConfig, CompileForAnotherBoardTakesSetAndPrintShowsIt) {
   const std::string bin = dir_ + "/pioneer.bin";
   Result c = run(kTroupe + " config compile " + kPioneer + " --board pioneer-p3dx -o " + bin +
                  " --set p2os.port=/dev/ttyUSB0");
-  ASSERT_EQ(c.rc, 0) << c.err;
+  ASSERT_EQ(c.status, 0) << c.err;
   Result p = run(kTroupe + " config print " + bin + " --board pioneer-p3dx");
-  ASSERT_EQ(p.rc, 0) << p.err;
+  ASSERT_EQ(p.status, 0) << p.err;
   EXPECT_EQ(value_after(p.out, "\"p2os\"", "port"), "\"/dev/ttyUSB0\"") << p.out;
   // The same as the host node shows for the JSON: the union is numbered
   // per board, the options are the same.
@@ -199,14 +193,14 @@ TEST_F(NodeConfig, CompileForAnotherBoardTakesSetAndPrintShowsIt) {
   // Another board's schema numbers other drivers: this one has one, and
   // the config's second instance is a driver it does not have.
   Result wrong = run(kTroupe + " config print " + bin + " --board diffbot-can");
-  EXPECT_EQ(wrong.rc, 1);
+  EXPECT_EQ(wrong.status, 1);
   EXPECT_NE(wrong.err.find("not a valid node config for board diffbot-can"), std::string::npos) << wrong.err;
 }
 
 TEST_F(NodeConfig, CompileRefusesADriverTheBoardLacks) {
   const std::string bin = dir_ + "/kinematic.bin";
   Result c = run(kTroupe + " config compile " + kKinematic + " --board pioneer-p3dx -o " + bin);
-  EXPECT_EQ(c.rc, 1);
+  EXPECT_EQ(c.status, 1);
   EXPECT_NE(c.err.find("kinematic.json:"), std::string::npos) << c.err;
   EXPECT_NE(c.err.find("driver 'kinematic' is not compiled into board pioneer-p3dx (its drivers: p2os, sicklms200)"),
             std::string::npos)
@@ -214,7 +208,7 @@ TEST_F(NodeConfig, CompileRefusesADriverTheBoardLacks) {
   EXPECT_EQ(troupe::testing::read_text(bin), "");  // nothing written
 
   Result board = run(kTroupe + " config compile " + kKinematic + " --board pioneer -o " + bin);
-  EXPECT_EQ(board.rc, 2);
+  EXPECT_EQ(board.status, 2);
   EXPECT_NE(board.err.find("no board 'pioneer'"), std::string::npos) << board.err;
   EXPECT_NE(board.err.find("pioneer-p3dx"), std::string::npos) << board.err;
 }
@@ -226,7 +220,7 @@ TEST_F(NodeConfig, AMissingCanBusIsReportedAsMissingNotAsABadConfig) {
   std::string path = write("diffbot.json", R"({ "drivers": [
     { "driver_type": "odrive_can", "driver": { "can_interface": "nocan9" }, "provides": ["position2d:0"] } ] })");
   Result r = run(kNode + " " + path + " --port 0");
-  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("drivers[0] (odrive_can): CAN interface 'nocan9': "), std::string::npos) << r.err;
   EXPECT_TRUE(r.err.find("this kernel has no CAN support") != std::string::npos ||
               r.err.find("No such device") != std::string::npos)
