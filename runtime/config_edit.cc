@@ -2,14 +2,15 @@
 // against the schema. A FlatBuffer cannot grow in place (a longer serial
 // port name would not fit), so the config is copied field by field through
 // the schema into a new buffer, with the one value replaced.
+#include "runtime/config_edit.h"
+
 #include <cerrno>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
-#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
-#include "runtime/config_edit.h"
 #include "runtime/config_schema.h"
 
 namespace troupe {
@@ -57,17 +58,18 @@ class Copier {
     for (uoffset_t k = 0; k < fields.size(); ++k) {
       const reflection::Field& f = *fields[k];
       const reflection::BaseType type = f.type()->base_type();
-      const uint8_t* p = t != nullptr && !flatbuffers::IsScalar(type) ? t->GetPointer<const uint8_t*>(f.offset())
-                                                                        : nullptr;
+      const uint8_t* p =
+          t != nullptr && !flatbuffers::IsScalar(type) ? t->GetPointer<const uint8_t*>(f.offset()) : nullptr;
       if (&f == edited && type == reflection::String) {
         children[k] = fbb_.CreateString(edit_.text).o;
       } else if (type == reflection::String && p != nullptr) {
         children[k] = fbb_.CreateString(reinterpret_cast<const flatbuffers::String*>(p)).o;
       } else if (type == reflection::Vector && p != nullptr) {
         children[k] = vector(f, p, where);
-      } else if (type == reflection::Obj && p != nullptr && !object_at(schema_, f.type()->index()).is_struct()) {
-        children[k] = table(object_at(schema_, f.type()->index()), reinterpret_cast<const flatbuffers::Table*>(p),
-                            Where{});
+      } else if (type == reflection::Obj && p != nullptr &&
+                 !object_at(schema_, f.type()->index()).is_struct()) {
+        children[k] = table(object_at(schema_, f.type()->index()),
+                            reinterpret_cast<const flatbuffers::Table*>(p), Where{});
       } else if (type == reflection::Union) {
         // An instance's options: created when the config gives none and the
         // edit sets one of them.
@@ -86,7 +88,8 @@ class Copier {
       if (children[k] != 0) {
         fbb_.AddOffset(f.offset(), flatbuffers::Offset<void>(children[k]));
       } else if (&f == edited && flatbuffers::IsScalar(type)) {
-        inline_bytes(f.offset(), edit_.scalar, flatbuffers::GetTypeSize(type), flatbuffers::GetTypeSize(type));
+        inline_bytes(f.offset(), edit_.scalar, flatbuffers::GetTypeSize(type),
+                     flatbuffers::GetTypeSize(type));
       } else if (t != nullptr && t->CheckField(f.offset())) {
         if (flatbuffers::IsScalar(type)) {
           const size_t size = flatbuffers::GetTypeSize(type);
@@ -116,7 +119,8 @@ class Copier {
       const uint8_t* slot = data + i * sizeof(uoffset_t);
       return slot + flatbuffers::ReadScalar<uoffset_t>(slot);
     };
-    if (element == reflection::String || (element == reflection::Obj && !object_at(schema_, f.type()->index()).is_struct())) {
+    if (element == reflection::String ||
+        (element == reflection::Obj && !object_at(schema_, f.type()->index()).is_struct())) {
       std::vector<flatbuffers::Offset<void>> items(n);
       for (uoffset_t i = 0; i < n; ++i) {
         if (element == reflection::String) {
@@ -124,8 +128,9 @@ class Copier {
         } else {
           // The root's list of tables is its driver instances.
           Where inner = where.place == Place::Root ? Where{Place::Instance, i} : Where{};
-          items[i] = flatbuffers::Offset<void>(table(object_at(schema_, f.type()->index()),
-                                                     reinterpret_cast<const flatbuffers::Table*>(at(i)), inner));
+          items[i] =
+              flatbuffers::Offset<void>(table(object_at(schema_, f.type()->index()),
+                                              reinterpret_cast<const flatbuffers::Table*>(at(i)), inner));
         }
       }
       return fbb_.CreateVector(items).o;
@@ -219,10 +224,13 @@ bool parse_value(const reflection::Schema& schema, const reflection::Field& f, c
     }
   } else if (!integer_range(type, min, max)) {
     return say(error, "%s is %s: change it in the config file", what,
-               type == reflection::Vector ? "a list" : type == reflection::UType ? "a driver type" : "a table");
+               type == reflection::Vector  ? "a list"
+               : type == reflection::UType ? "a driver type"
+                                           : "a table");
   } else {
     int64_t value = 0;
-    const reflection::Enum* named = f.type()->index() >= 0 ? schema.enums()->Get(uint32_t(f.type()->index())) : nullptr;
+    const reflection::Enum* named =
+        f.type()->index() >= 0 ? schema.enums()->Get(uint32_t(f.type()->index())) : nullptr;
     if (named != nullptr) {
       std::string names;
       for (const reflection::EnumVal* v : *named->values()) {
@@ -247,13 +255,22 @@ bool parse_value(const reflection::Schema& schema, const reflection::Field& f, c
         value = int64_t(u);
       }
       out_of_range = out_of_range || errno == ERANGE;
-      if (!std::isdigit(uint8_t(text[text.starts_with('-') || text.starts_with('+')]))) end = const_cast<char*>(s);
+      if (!std::isdigit(uint8_t(text[text.starts_with('-') || text.starts_with('+')])))
+        end = const_cast<char*>(s);
     }
     switch (flatbuffers::GetTypeSize(type)) {
-      case 1: flatbuffers::WriteScalar(edit.scalar, uint8_t(value)); break;
-      case 2: flatbuffers::WriteScalar(edit.scalar, uint16_t(value)); break;
-      case 4: flatbuffers::WriteScalar(edit.scalar, uint32_t(value)); break;
-      default: flatbuffers::WriteScalar(edit.scalar, uint64_t(value)); break;
+      case 1:
+        flatbuffers::WriteScalar(edit.scalar, uint8_t(value));
+        break;
+      case 2:
+        flatbuffers::WriteScalar(edit.scalar, uint16_t(value));
+        break;
+      case 4:
+        flatbuffers::WriteScalar(edit.scalar, uint32_t(value));
+        break;
+      default:
+        flatbuffers::WriteScalar(edit.scalar, uint64_t(value));
+        break;
     }
   }
   if (end == s || *end != '\0') return say(error, "'%s' is not a value of %s, which is %s", s, what, kind);
@@ -281,10 +298,11 @@ bool find_instance(const reflection::Schema& schema, const flatbuffers::Table& r
     names += inst_name;
     if (name != inst_name) continue;
     if (found) {
-      return say(error,
-                 "'%s' names more than one driver instance (drivers[%u] and drivers[%u]): give them \"name\"s "
-                 "of their own in the config",
-                 name.c_str(), unsigned(edit.where.instance), unsigned(i));
+      return say(
+          error,
+          "'%s' names more than one driver instance (drivers[%u] and drivers[%u]): give them \"name\"s "
+          "of their own in the config",
+          name.c_str(), unsigned(edit.where.instance), unsigned(i));
     }
     if (member == nullptr) return say(error, "drivers[%u] has no driver type this board knows", unsigned(i));
     found = true;
@@ -300,11 +318,12 @@ bool find_instance(const reflection::Schema& schema, const flatbuffers::Table& r
 
 }  // namespace
 
-bool set_config_value(const reflection::Schema& schema, std::vector<uint8_t>& config, std::string_view assignment,
-                      std::string& error) {
+bool set_config_value(const reflection::Schema& schema, std::vector<uint8_t>& config,
+                      std::string_view assignment, std::string& error) {
   const size_t eq = assignment.find('=');
   if (eq == std::string_view::npos || eq == 0) {
-    return say(error, "expected INSTANCE.KEY=VALUE (a driver instance's option) or KEY=VALUE (a node setting)");
+    return say(error,
+               "expected INSTANCE.KEY=VALUE (a driver instance's option) or KEY=VALUE (a node setting)");
   }
   const std::string path(assignment.substr(0, eq));
   const size_t dot = path.rfind('.');
@@ -312,20 +331,22 @@ bool set_config_value(const reflection::Schema& schema, std::vector<uint8_t>& co
   Edit edit;
   edit.where = Where{Place::Root};
   const reflection::Object* object = schema.root_table();
-  if (dot != std::string::npos &&
-      !find_instance(schema, *flatbuffers::GetAnyRoot(config.data()), path.substr(0, dot), edit, object, error)) {
+  if (dot != std::string::npos && !find_instance(schema, *flatbuffers::GetAnyRoot(config.data()),
+                                                 path.substr(0, dot), edit, object, error)) {
     return false;
   }
   const reflection::Field* field = object->fields()->LookupByKey(key.c_str());
   if (field == nullptr || field->deprecated()) {
     if (dot == std::string::npos) {
-      return say(error, "no node setting '%s' (a driver instance's option is INSTANCE.KEY); node settings: %s",
+      return say(error,
+                 "no node setting '%s' (a driver instance's option is INSTANCE.KEY); node settings: %s",
                  key.c_str(), names_of(*object).c_str());
     }
     return say(error, "%.*s has no option '%s'; its options: %s", int(dot), path.c_str(), key.c_str(),
                names_of(*object).c_str());
   }
-  if (!parse_value(schema, *field, path.c_str(), std::string(assignment.substr(eq + 1)), edit, error)) return false;
+  if (!parse_value(schema, *field, path.c_str(), std::string(assignment.substr(eq + 1)), edit, error))
+    return false;
   edit.field = field;
   config = Copier(schema, edit).copy(config.data());
   return true;

@@ -27,8 +27,8 @@ namespace troupe {
 /// false, one of an enum's names; a string is taken as it is. Lists and
 /// tables are changed in the config file, not here. On failure `config` is
 /// unchanged and `error` says what is wrong and what exists instead.
-bool set_config_value(const reflection::Schema& schema, std::vector<uint8_t>& config, std::string_view assignment,
-                      std::string& error);
+bool set_config_value(const reflection::Schema& schema, std::vector<uint8_t>& config,
+                      std::string_view assignment, std::string& error);
 
 /// A node config as JSON that reads back as the same config: every number,
 /// switch and enum with the value the node runs with (its schema default

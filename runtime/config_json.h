@@ -16,7 +16,7 @@ namespace troupe {
 /// the config as `flatc -b` makes it; otherwise false with `error`
 /// ("path:line:col: what", path as given).
 bool parse_node_config_json(const uint8_t* schema, size_t schema_size, const char* board,
-                            const std::string& board_drivers, const std::string& text, const std::string& path,
-                            std::vector<uint8_t>& binary, std::string& error);
+                            const std::string& board_drivers, const std::string& text,
+                            const std::string& path, std::vector<uint8_t>& binary, std::string& error);
 
 }  // namespace troupe

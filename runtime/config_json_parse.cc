@@ -20,8 +20,8 @@ bool line_mentions(const std::string& text, unsigned line, const char* word) {
 }  // namespace
 
 bool parse_node_config_json(const uint8_t* schema, size_t schema_size, const char* board,
-                            const std::string& board_drivers, const std::string& text, const std::string& path,
-                            std::vector<uint8_t>& binary, std::string& error) {
+                            const std::string& board_drivers, const std::string& text,
+                            const std::string& path, std::vector<uint8_t>& binary, std::string& error) {
   flatbuffers::IDLOptions opts;
   opts.skip_unexpected_fields_in_json = false;  // an unknown key is an error
   flatbuffers::Parser parser(opts);

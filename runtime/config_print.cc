@@ -31,7 +31,8 @@ class JsonWriter {
       if (f == nullptr || f->deprecated()) continue;
       const reflection::BaseType type = f->type()->base_type();
       const bool present = t != nullptr && t->CheckField(f->offset());
-      const reflection::EnumVal* member = type == reflection::Union ? union_member(schema_, object, *f, t) : nullptr;
+      const reflection::EnumVal* member =
+          type == reflection::Union ? union_member(schema_, object, *f, t) : nullptr;
       // Numbers, switches and enums are shown with the value the node takes;
       // a driver type of none and absent strings, lists and tables are not.
       if (type == reflection::UType ? !present || t->GetField<uint8_t>(f->offset(), 0) == 0
@@ -45,7 +46,8 @@ class JsonWriter {
       out_ += ": ";
       const uint8_t* at = present ? t->GetAddressOf(f->offset()) : nullptr;
       if (member != nullptr) {
-        table(config_schema::member_object(schema_, *member), present ? t->GetPointer<const flatbuffers::Table*>(f->offset()) : nullptr, depth + 1);
+        table(config_schema::member_object(schema_, *member),
+              present ? t->GetPointer<const flatbuffers::Table*>(f->offset()) : nullptr, depth + 1);
       } else if (flatbuffers::IsScalar(type)) {
         scalar(*f, *f->type(), type, at);
       } else {
@@ -77,7 +79,8 @@ class JsonWriter {
     }
     const flatbuffers::uoffset_t n = flatbuffers::ReadScalar<flatbuffers::uoffset_t>(p);
     const reflection::BaseType element = type.element();
-    size_t size = flatbuffers::IsScalar(element) ? flatbuffers::GetTypeSize(element) : sizeof(flatbuffers::uoffset_t);
+    size_t size =
+        flatbuffers::IsScalar(element) ? flatbuffers::GetTypeSize(element) : sizeof(flatbuffers::uoffset_t);
     if (element == reflection::Obj && object_at(schema_, type.index()).is_struct()) {
       size = size_t(object_at(schema_, type.index()).bytesize());
     }
@@ -136,16 +139,26 @@ class JsonWriter {
   void scalar_bytes(const reflection::Type& type, reflection::BaseType base, const uint8_t* at) {
     using flatbuffers::ReadScalar;
     switch (base) {
-      case reflection::Float: return real(ReadScalar<float>(at), true);
-      case reflection::Double: return real(ReadScalar<double>(at), false);
-      case reflection::Byte: return integer(type, base, ReadScalar<int8_t>(at));
-      case reflection::Short: return integer(type, base, ReadScalar<int16_t>(at));
-      case reflection::Int: return integer(type, base, ReadScalar<int32_t>(at));
-      case reflection::Long: return integer(type, base, ReadScalar<int64_t>(at));
-      case reflection::UShort: return integer(type, base, ReadScalar<uint16_t>(at));
-      case reflection::UInt: return integer(type, base, ReadScalar<uint32_t>(at));
-      case reflection::ULong: return integer(type, base, int64_t(ReadScalar<uint64_t>(at)));
-      default: return integer(type, base, ReadScalar<uint8_t>(at));  // UType, Bool, UByte
+      case reflection::Float:
+        return real(ReadScalar<float>(at), true);
+      case reflection::Double:
+        return real(ReadScalar<double>(at), false);
+      case reflection::Byte:
+        return integer(type, base, ReadScalar<int8_t>(at));
+      case reflection::Short:
+        return integer(type, base, ReadScalar<int16_t>(at));
+      case reflection::Int:
+        return integer(type, base, ReadScalar<int32_t>(at));
+      case reflection::Long:
+        return integer(type, base, ReadScalar<int64_t>(at));
+      case reflection::UShort:
+        return integer(type, base, ReadScalar<uint16_t>(at));
+      case reflection::UInt:
+        return integer(type, base, ReadScalar<uint32_t>(at));
+      case reflection::ULong:
+        return integer(type, base, int64_t(ReadScalar<uint64_t>(at)));
+      default:
+        return integer(type, base, ReadScalar<uint8_t>(at));  // UType, Bool, UByte
     }
   }
 

@@ -17,8 +17,10 @@ inline const reflection::Field* field_with_id(const reflection::Object& object, 
 /// The member a union field holds in `table` (by the type field before it,
 /// "<name>_type"), or nullptr for none or a type this schema does not know.
 /// Its name is the driver type; its union_type() the options table.
-inline const reflection::EnumVal* union_member(const reflection::Schema& schema, const reflection::Object& object,
-                                               const reflection::Field& field, const flatbuffers::Table* table) {
+inline const reflection::EnumVal* union_member(const reflection::Schema& schema,
+                                               const reflection::Object& object,
+                                               const reflection::Field& field,
+                                               const flatbuffers::Table* table) {
   const reflection::Field* type_field = field_with_id(object, field.id() - 1u);
   if (table == nullptr || type_field == nullptr) return nullptr;
   const int64_t type = table->GetField<uint8_t>(type_field->offset(), 0);
@@ -34,7 +36,8 @@ inline const reflection::Object& object_at(const reflection::Schema& schema, int
 }
 
 /// A union member's table type.
-inline const reflection::Object& member_object(const reflection::Schema& schema, const reflection::EnumVal& member) {
+inline const reflection::Object& member_object(const reflection::Schema& schema,
+                                               const reflection::EnumVal& member) {
   return object_at(schema, member.union_type()->index());
 }
 

@@ -69,18 +69,22 @@ int main(int argc, char** argv) {
         "troupe config compile examples/nodes/pioneer-p3dx.json --board pioneer-p3dx -o usb.bin --set "
         "p2os.port=/dev/ttyUSB1",
         "troupe config print pioneer-p3dx.bin --board pioneer-p3dx"}});
-  app->add_option("COMMAND", command, "compile or print")->required()->check(CLI::IsMember({"compile", "print"}));
+  app->add_option("COMMAND", command, "compile or print")
+      ->required()
+      ->check(CLI::IsMember({"compile", "print"}));
   app->add_option("CONFIG", path, "the node config, JSON (or compiled, for print)")->required();
   app->add_option("--board", board_name, "the board whose node reads it (a folder under boards/)")
       ->type_name("BOARD")
       ->required();
-  auto* out = app->add_option("-o,--out", out_path, "where the compiled config goes (compile)")->type_name("FILE");
+  auto* out =
+      app->add_option("-o,--out", out_path, "where the compiled config goes (compile)")->type_name("FILE");
   app->add_option("--set", sets, "set an option (INSTANCE.KEY=VALUE) or node setting (KEY=VALUE); repeatable")
       ->type_name("ASSIGNMENT")
       ->expected(1)
       ->take_all();
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
-  if (command == "compile" && out->count() == 0) return troupe::cli::usage_error(*app, "compile needs -o FILE");
+  if (command == "compile" && out->count() == 0)
+    return troupe::cli::usage_error(*app, "compile needs -o FILE");
   if (command == "print" && out->count() > 0) return troupe::cli::usage_error(*app, "-o is compile's");
 
   std::string boards;

@@ -24,7 +24,9 @@ const std::string kKinematic = kSource + "/examples/nodes/kinematic.json";
 using Result = troupe::testing::ProgramResult;
 
 // A shell command line run to its end (bounded: a hang fails the test).
-Result run(const std::string& command) { return troupe::testing::run_to_end({"/bin/sh", "-c", command}, 60000); }
+Result run(const std::string& command) {
+  return troupe::testing::run_to_end({"/bin/sh", "-c", command}, 60000);
+}
 
 // The value of `key` in the printed config, after the first `after`
 // (e.g. an instance's "driver_type"): the text up to the end of its line.
@@ -102,12 +104,14 @@ TEST_F(NodeConfig, EveryBadSetSaysWhatIsWrong) {
     std::vector<const char*> says;
   };
   const Case cases[] = {
-      {"lazer.port=/dev/ttyUSB0", {"--set lazer.port=/dev/ttyUSB0: ", "no driver instance 'lazer'", "p2os, sicklms200"}},
+      {"lazer.port=/dev/ttyUSB0",
+       {"--set lazer.port=/dev/ttyUSB0: ", "no driver instance 'lazer'", "p2os, sicklms200"}},
       {"p2os.prot=/dev/ttyUSB0", {"p2os has no option 'prot'", "its options: port, baud"}},
       {"p2os.baud=fast", {"'fast' is not a value of p2os.baud", "an integer from 0 to 4294967295"}},
       {"p2os.sonar=yes", {"'yes' is not a value of p2os.sonar", "true or false"}},
       {"sicklms200.pose_x=nan", {"'nan' is not a value of sicklms200.pose_x", "finite"}},
-      {"sicklms200.scan_width_deg=70000", {"'70000' is out of range for sicklms200.scan_width_deg", "0 to 65535"}},
+      {"sicklms200.scan_width_deg=70000",
+       {"'70000' is out of range for sicklms200.scan_width_deg", "0 to 65535"}},
       {"p2os.baud=-1", {"'-1' is out of range for p2os.baud"}},
       {"log_level=debug", {"'debug' is not a value of log_level", "Error, Warn, Info, Debug"}},
       {"max_sped=1", {"no node setting 'max_sped'", "max_clients"}},
@@ -136,7 +140,8 @@ TEST_F(NodeConfig, AnInstanceNameTwoInstancesShareIsRefused) {
     { "driver_type": "kinematic", "name": "right", "provides": ["position2d:1"] } ] })");
   r = run(kNode + " " + path + " --set right.max_speed=0.5 --print-config");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(value_after(r.out, "\"left\"", "max_speed"), "0.5") << r.out;  // right's block follows left's name
+  EXPECT_EQ(value_after(r.out, "\"left\"", "max_speed"), "0.5")
+      << r.out;  // right's block follows left's name
   EXPECT_EQ(value_after(r.out, "\"driver_type\": \"kinematic\"", "max_speed"), "1") << r.out;
 }
 
@@ -155,8 +160,8 @@ TEST_F(NodeConfig, CompiledConfigLoadsAndRunsAsTheJson) {
   const std::string bin = dir_ + "/kinematic.bin";
   Result c = run(kTroupe + " config compile " + kKinematic + " --board host -o " + bin);
   ASSERT_EQ(c.status, 0) << c.err;
-  EXPECT_EQ(troupe::testing::read_text(bin), troupe::testing::read_text(std::string(TROUPE_BINARY_DIR) +
-                                                                           "/configs/kinematic.bin"));
+  EXPECT_EQ(troupe::testing::read_text(bin),
+            troupe::testing::read_text(std::string(TROUPE_BINARY_DIR) + "/configs/kinematic.bin"));
 
   for (const std::string set : {"", " --set kinematic.max_speed=0.25 --set port=7002"}) {
     Result from_json = run(kNode + " " + kKinematic + set + " --print-config");
@@ -202,7 +207,8 @@ TEST_F(NodeConfig, CompileRefusesADriverTheBoardLacks) {
   Result c = run(kTroupe + " config compile " + kKinematic + " --board pioneer-p3dx -o " + bin);
   EXPECT_EQ(c.status, 1);
   EXPECT_NE(c.err.find("kinematic.json:"), std::string::npos) << c.err;
-  EXPECT_NE(c.err.find("driver 'kinematic' is not compiled into board pioneer-p3dx (its drivers: p2os, sicklms200)"),
+  EXPECT_NE(c.err.find(
+                "driver 'kinematic' is not compiled into board pioneer-p3dx (its drivers: p2os, sicklms200)"),
             std::string::npos)
       << c.err;
   EXPECT_EQ(troupe::testing::read_text(bin), "");  // nothing written
@@ -225,7 +231,8 @@ TEST_F(NodeConfig, AMissingCanBusIsReportedAsMissingNotAsABadConfig) {
   EXPECT_TRUE(r.err.find("this kernel has no CAN support") != std::string::npos ||
               r.err.find("No such device") != std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("not starting: a device it drives is not there (the config is fine)"), std::string::npos)
+  EXPECT_NE(r.err.find("not starting: a device it drives is not there (the config is fine)"),
+            std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find("the config must be fixed"), std::string::npos) << r.err;
 }

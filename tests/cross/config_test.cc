@@ -22,7 +22,7 @@ class BoardConfig : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(BoardConfig, SetAndPrintConfigOnTheTargetGiveWhatTheHostGives) {
-  const std::vector<std::string> sets = {"--set", "kinematic.max_speed=0.25", "--set", "name=lab-base",
+  const std::vector<std::string> sets = {"--set", "kinematic.max_speed=0.25", "--set",  "name=lab-base",
                                          "--set", "kinematic.initial_x=-1.5", "--port", "7003"};
   std::vector<std::string> args = {build_.path("configs/ppc-node.bin")};
   args.insert(args.end(), sets.begin(), sets.end());
@@ -39,7 +39,8 @@ TEST_P(BoardConfig, SetAndPrintConfigOnTheTargetGiveWhatTheHostGives) {
   // A mistake is one on the target too: exit 2, nothing printed.
   std::string out;
   EXPECT_EQ(run(qemu_command(build_, build_.node,
-                             {build_.path("configs/ppc-node.bin"), "--set", "kinematic.max_sped=1", "--print-config"}) +
+                             {build_.path("configs/ppc-node.bin"), "--set", "kinematic.max_sped=1",
+                              "--print-config"}) +
                     " 2>/dev/null",
                 out),
             2);
@@ -49,7 +50,8 @@ TEST_P(BoardConfig, SetAndPrintConfigOnTheTargetGiveWhatTheHostGives) {
 TEST_P(BoardConfig, TroupeConfigCompileMakesWhatTheBoardBuildMakes) {
   const std::string bin = make_temp_dir("config") + "/ppc-node.bin";
   std::string out;
-  ASSERT_EQ(run(quote(kHostBin + "/troupe") + " config compile " + quote(kJson) + " --board ppc-node -o " + quote(bin),
+  ASSERT_EQ(run(quote(kHostBin + "/troupe") + " config compile " + quote(kJson) + " --board ppc-node -o " +
+                    quote(bin),
                 out),
             0);
   EXPECT_EQ(read_text(bin), read_text(build_.path("configs/ppc-node.bin")));
