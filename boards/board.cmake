@@ -94,23 +94,32 @@ include(${CMAKE_CURRENT_LIST_DIR}/sysroot.cmake)
 # Driver <d> lives in drivers/<d>/, defines table `Options` in namespace
 # troupe.drivers.<d> (drivers/<d>/<d>.fbs) and the factory
 # troupe::drivers::<d>::kEntry.
-set(_fbs "// Generated from boards/${TROUPE_BOARD}/board.cmake; do not edit.\n")
-set(_union "")
+# troupe_driver_options_fbs(<board> <out.fbs> <driver>...): writes the union
+# of those drivers' option tables, as config.fbs includes it. Also used for
+# the other boards' schemas, which `troupe config compile` carries.
+function(troupe_driver_options_fbs board out)
+  set(fbs "// Generated from boards/${board}/board.cmake; do not edit.\n")
+  set(union "")
+  foreach(d ${ARGN})
+    if(NOT EXISTS ${PROJECT_SOURCE_DIR}/drivers/${d}/${d}.fbs)
+      message(FATAL_ERROR "Board ${board} lists driver '${d}', but drivers/${d}/${d}.fbs does not exist")
+    endif()
+    string(APPEND fbs "include \"${d}.fbs\";\n")
+    string(APPEND union "  ${d}: troupe.drivers.${d}.Options,\n")
+  endforeach()
+  string(APPEND fbs "\nnamespace troupe.config;\n\n/// The drivers of board ${board}.\nunion DriverOptions {\n${union}}\n")
+  file(CONFIGURE OUTPUT ${out} CONTENT "${fbs}")
+endfunction()
+
 set(_decls "")
 set(_entries "")
 foreach(_d ${TROUPE_BOARD_DRIVERS})
-  if(NOT EXISTS ${PROJECT_SOURCE_DIR}/drivers/${_d}/${_d}.fbs)
-    message(FATAL_ERROR "Board ${TROUPE_BOARD} lists driver '${_d}', but drivers/${_d}/${_d}.fbs does not exist")
-  endif()
-  string(APPEND _fbs "include \"${_d}.fbs\";\n")
-  string(APPEND _union "  ${_d}: troupe.drivers.${_d}.Options,\n")
   string(APPEND _decls "namespace troupe::drivers::${_d} { extern const DriverEntry kEntry; }\n")
   string(APPEND _entries "    &troupe::drivers::${_d}::kEntry,\n")
 endforeach()
-string(APPEND _fbs "\nnamespace troupe.config;\n\n/// The drivers of board ${TROUPE_BOARD}.\nunion DriverOptions {\n${_union}}\n")
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/generated/runtime)
 set(TROUPE_DRIVER_OPTIONS_FBS ${PROJECT_BINARY_DIR}/generated/runtime/driver_options.fbs)
-file(CONFIGURE OUTPUT ${TROUPE_DRIVER_OPTIONS_FBS} CONTENT "${_fbs}")
+troupe_driver_options_fbs(${TROUPE_BOARD} ${TROUPE_DRIVER_OPTIONS_FBS} ${TROUPE_BOARD_DRIVERS})
 set(TROUPE_DRIVER_TABLE_CC ${PROJECT_BINARY_DIR}/generated/runtime/driver_table.cc)
 file(CONFIGURE OUTPUT ${TROUPE_DRIVER_TABLE_CC} CONTENT
 "// Generated from boards/${TROUPE_BOARD}/board.cmake; do not edit.

@@ -27,9 +27,16 @@ int parse_command_line(const CommandLine& line, int argc, char** argv) {
     for (size_t f = 0; f < line.flag_count; ++f) {
       if (strcmp(a, line.flags[f].name) == 0) flag = &line.flags[f];
     }
-    if (flag != nullptr) {
+    if (flag != nullptr && flag->value == nullptr) {
+      *flag->count = 1;
+    } else if (flag != nullptr) {
       if (i + 1 >= argc) return mistake(line, "a value is missing after", a);
-      *flag->value = argv[++i];
+      size_t at = 0;
+      if (flag->capacity > 1) {
+        if (*flag->count == flag->capacity) return mistake(line, "too many of", a);
+        at = (*flag->count)++;
+      }
+      flag->value[at] = argv[++i];
     } else if (a[0] == '-' || *line.positional != nullptr) {
       return mistake(line, "unexpected argument", a);
     } else {

@@ -6,11 +6,19 @@
 
 namespace troupe {
 
-/// A flag that takes a value ("--port N"): `*value` points at the word
-/// after it once parsed, and stays as it was when the flag is not given.
+/// A flag. By default it takes a value ("--port N"): `*value` points at the
+/// word after it once parsed, and stays as it was when the flag is not
+/// given; given twice, the last one counts.
+///  - A switch ("--print-config") has `value == nullptr`: `*count` says
+///    whether it was given.
+///  - A repeatable flag ("--set A --set B") has `capacity` > 1: `value`
+///    points at that many words, filled in command-line order, and `*count`
+///    says how many; more is a mistake.
 struct Flag {
   const char* name;
   const char** value;
+  size_t* count = nullptr;
+  size_t capacity = 1;
 };
 
 /// What a program's command line takes: its flags, one positional word

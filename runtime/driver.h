@@ -44,13 +44,20 @@ struct DriverSetup {
   std::span<const DeviceId> required;
 };
 
+/// Why a driver refused to set up, which decides what the node says last:
+/// the config must change, or the machine lacks what the driver drives
+/// (no such CAN interface, no CAN in the kernel) and the same config works
+/// where it is there.
+enum class SetupFailure : uint8_t { Config, MissingDevice };
+
 class Driver : public FdHandler, public TimerHandler {
  public:
   virtual ~Driver() = default;
 
   /// Reads options, opens hardware, registers descriptors and timers. On
   /// failure returns false with `error` saying what and where (the node then
-  /// refuses to start: never half-configured).
+  /// refuses to start: never half-configured), and `setup_failure_` set to
+  /// MissingDevice when the hardware is not there rather than misconfigured.
   virtual bool setup(Node& node, const DriverSetup& setup, std::string& error) = 0;
 
   /// The newest command for one of this driver's devices. Commands that
@@ -60,6 +67,13 @@ class Driver : public FdHandler, public TimerHandler {
   /// A request for one of this driver's devices. Reply once through the
   /// node with `token`. The default refuses it as unsupported.
   virtual void on_request(DeviceId device, const wire::Message& request, RequestToken token);
+
+  /// A client opened `device`, one of this driver's, for reading when nobody
+  /// read it. The node then hands the new reader the device's stored
+  /// samples: a driver that publishes only while a device is read
+  /// publishes the current sample now (or drops what is stale with
+  /// Node::forget_data), so that the first sample a reader sees is current.
+  virtual void on_read_start(DeviceId /*device*/) {}
 
   /// Data published by a device this driver subscribed to (Node::subscribe).
   virtual void on_data(DeviceId /*source*/, const wire::Message& /*data*/) {}
@@ -77,6 +91,7 @@ class Driver : public FdHandler, public TimerHandler {
 
  protected:
   Node* node_ = nullptr;
+  SetupFailure setup_failure_ = SetupFailure::Config;
   friend class Node;
 };
 

@@ -1,7 +1,8 @@
 // troupe-node: serves the devices of one robot (or desktop) over the wire.
 //
-//   troupe-node CONFIG [--port N] [--listen ADDR] [--log-level LEVEL] [--max-clients N]
-//               [--max-clients-per-address N] [--hello-timeout-ms MS] [--idle-timeout-ms MS]
+//   troupe-node CONFIG [--set INSTANCE.KEY=VALUE]... [--print-config] [--port N] [--listen ADDR]
+//               [--log-level LEVEL] [--max-clients N] [--max-clients-per-address N]
+//               [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]
 #include <signal.h>
 
 #include <cstdint>
@@ -9,9 +10,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <iterator>
+#include <memory>
 #include <string>
 
 #include "runtime/args.h"
+#include "runtime/exposure.h"
 #include "runtime/log.h"
 #include "runtime/node_config.h"
 #ifdef TROUPE_HAVE_NOISE
@@ -22,29 +25,41 @@
 namespace {
 
 const char kUsage[] =
-    "usage: troupe-node CONFIG [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
+    "usage: troupe-node CONFIG [--set INSTANCE.KEY=VALUE]... [--print-config]\n"
+    "                   [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
     "                   [--max-clients N] [--max-clients-per-address N]\n"
-    "                   [--hello-timeout-ms MS] [--idle-timeout-ms MS]\n"
+    "                   [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]\n"
     "\n"
     "Serves the devices listed in the node config CONFIG (JSON, or the binary\n"
-    "flatc compiles from it) to clients over TCP. Options override the config.\n"
+    "`troupe config compile` makes of it) to clients over TCP. Options override\n"
+    "the config.\n"
     "\n"
+    "  --set INSTANCE.KEY=VALUE      option KEY of driver instance INSTANCE (its name,\n"
+    "                                else its driver type); KEY=VALUE: a node setting\n"
+    "  --print-config                print the config it would run, as JSON, and exit\n"
     "  --max-clients N               connections served at once (default 64)\n"
     "  --max-clients-per-address N   of them from one IP address (default 0: no limit)\n"
     "  --hello-timeout-ms MS         close a connection silent this long after connecting\n"
     "                                (default 5000; 0: never)\n"
     "  --idle-timeout-ms MS          close a connection that reads nothing and is silent\n"
     "                                this long (default 60000; 0: never)\n"
+    "  --insecure                    serve plain TCP beyond loopback (no \"key\" in the\n"
+    "                                config): anyone who reaches the port may command\n"
+    "                                every device; logged every minute\n"
     "\n"
     "examples:\n"
     "  troupe-node examples/nodes/kinematic.json\n"
-    "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0\n";
+    "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0 --insecure\n"
+    "  troupe-node examples/nodes/kinematic.json --set kinematic.max_speed=0.5 --print-config\n";
 
-// A numeric flag's value, min..max; false (with the reason printed) when it
-// is not one.
-bool flag_number(const char* flag, const char* text, unsigned long min, unsigned long max, unsigned long& out) {
+// --set words a command line takes: a robot's handful of changes, with room.
+constexpr size_t kMaxSets = 32;
+
+// Whether a numeric flag's value is one, min..max; false with the reason
+// printed when it is not.
+bool flag_number(const char* flag, const char* text, unsigned long min, unsigned long max) {
   char* end = nullptr;
-  out = strtoul(text, &end, 10);
+  unsigned long out = strtoul(text, &end, 10);
   if (*text >= '0' && *text <= '9' && *end == '\0' && out >= min && out <= max) return true;
   fprintf(stderr, "troupe-node: bad %s '%s' (%lu to %lu)\n", flag, text, min, max);
   return false;
@@ -63,7 +78,12 @@ int main(int argc, char** argv) {
   const char* per_address = nullptr;
   const char* hello_timeout = nullptr;
   const char* idle_timeout = nullptr;
-  const troupe::Flag flags[] = {{"--port", &port},
+  const char* sets[kMaxSets] = {};
+  size_t set_count = 0, print_config = 0, insecure = 0;
+  const troupe::Flag flags[] = {{"--set", sets, &set_count, kMaxSets},
+                                {"--print-config", nullptr, &print_config},
+                                {"--insecure", nullptr, &insecure},
+                                {"--port", &port},
                                 {"--listen", &listen},
                                 {"--log-level", &level},
                                 {"--max-clients", &max_clients},
@@ -79,48 +99,61 @@ int main(int argc, char** argv) {
     troupe::log_error("%s", error.c_str());
     return 1;
   }
-  troupe::set_log_level(troupe::LogLevel(int(cfg.root->log_level())));
+  auto set = [&cfg, &error](const std::string& assignment) {
+    if (troupe::set_config_value(cfg, assignment.c_str(), error)) return true;
+    fprintf(stderr, "troupe-node: --set %s: %s\n", assignment.c_str(), error.c_str());
+    return false;
+  };
+  for (size_t i = 0; i < set_count; ++i) {
+    if (!set(sets[i])) return 2;
+  }
+  // The flags of node settings are --set of those settings, given last; they
+  // change the config itself so that --print-config shows them too.
   troupe::LogLevel parsed{};
   if (level != nullptr) {
     if (!troupe::parse_log_level(level, parsed)) {
       fprintf(stderr, "troupe-node: bad log level '%s'\n%s", level, kUsage);
       return 2;
     }
-    troupe::set_log_level(parsed);
+    if (!set(std::string("log_level=") + troupe::config::EnumNameLogLevel(troupe::config::LogLevel(parsed)))) return 2;
   }
-  troupe::Node::Options options = troupe::node_options(*cfg.root);
-  if (port != nullptr) {
-    char* end = nullptr;
-    long p = strtol(port, &end, 10);
-    if (*end != '\0' || p < 0 || p > 65535) {
-      fprintf(stderr, "troupe-node: bad port '%s'\n", port);
+  // Their own checks first (--max-clients 0 is a mistake the schema allows).
+  struct NumberFlag {
+    const char* flag;
+    const char* text;
+    const char* key;
+    unsigned long min, max;
+  };
+  const NumberFlag numbers[] = {{"--port", port, "port=", 0, 65535},
+                                {"--max-clients", max_clients, "max_clients=", 1, 65535},
+                                {"--max-clients-per-address", per_address, "max_clients_per_address=", 0, 65535},
+                                {"--hello-timeout-ms", hello_timeout, "hello_timeout_ms=", 0, UINT32_MAX},
+                                {"--idle-timeout-ms", idle_timeout, "idle_timeout_ms=", 0, UINT32_MAX}};
+  for (const NumberFlag& f : numbers) {
+    if (f.text != nullptr && (!flag_number(f.flag, f.text, f.min, f.max) || !set(std::string(f.key) + f.text))) {
       return 2;
     }
-    options.port = uint16_t(p);
   }
-  if (listen != nullptr) options.listen = listen;
-  unsigned long n = 0;
-  if (max_clients != nullptr) {
-    if (!flag_number("--max-clients", max_clients, 1, 65535, n)) return 2;
-    options.max_clients = uint16_t(n);
+  if (listen != nullptr && !set(std::string("listen=") + listen)) return 2;
+  if (print_config != 0) {
+    fputs(troupe::config_to_json(cfg).c_str(), stdout);
+    return 0;
   }
-  if (per_address != nullptr) {
-    if (!flag_number("--max-clients-per-address", per_address, 0, 65535, n)) return 2;
-    options.max_clients_per_address = uint16_t(n);
-  }
-  if (hello_timeout != nullptr) {
-    if (!flag_number("--hello-timeout-ms", hello_timeout, 0, UINT32_MAX, n)) return 2;
-    options.hello_timeout_ms = uint32_t(n);
-  }
-  if (idle_timeout != nullptr) {
-    if (!flag_number("--idle-timeout-ms", idle_timeout, 0, UINT32_MAX, n)) return 2;
-    options.idle_timeout_ms = uint32_t(n);
-  }
+  troupe::set_log_level(troupe::LogLevel(int(cfg.root->log_level())));
+  troupe::Node::Options options = troupe::node_options(*cfg.root);
 
+  const bool secure = cfg.root->key() != nullptr;
 #ifdef TROUPE_HAVE_NOISE
   if (!troupe::secure_sessions(cfg, options, error)) {
     troupe::log_error("%s", error.c_str());
     return 1;
+  }
+  // Where secure sessions are built in, plain TCP beyond loopback must be
+  // asked for. A board built without them can serve nothing else: it says
+  // so every minute instead.
+  if (!troupe::may_serve("troupe-node", options.listen, options.port, secure, insecure != 0, error)) {
+    troupe::log_error("%s", error.c_str());
+    return 2;
   }
 #else
   if (cfg.root->key() != nullptr) {
@@ -131,9 +164,12 @@ int main(int argc, char** argv) {
 #endif
 
   troupe::Node node(options);
-  if (!troupe::build_node(node, cfg, error)) {
+  troupe::SetupFailure failure = troupe::SetupFailure::Config;
+  if (!troupe::build_node(node, cfg, error, &failure)) {
     troupe::log_error("%s", error.c_str());
-    troupe::log_error("not starting: the config must be fixed first");
+    troupe::log_error(failure == troupe::SetupFailure::MissingDevice
+                          ? "not starting: a device it drives is not there (the config is fine)"
+                          : "not starting: the config must be fixed first");
     return 1;
   }
   if (!node.start(error)) {
@@ -141,6 +177,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   troupe::StopOnSignal stop_on_signal(node.loop(), [&node] { node.stop(); });
+  std::unique_ptr<troupe::PlainServiceWarning> plain_warning;
+  if (!secure && !troupe::loopback_only(options.listen)) {
+    plain_warning = std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe-node on " + node.listen_text());
+  }
   troupe::log_info("%s (board %s) serving %zu devices on %s", options.name.c_str(), troupe::kBoardName,
                    node.device_count(), node.listen_text().c_str());
   node.run();

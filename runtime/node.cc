@@ -50,9 +50,13 @@ DeviceId Node::add_device(const wire::Address& addr, Driver* driver, std::string
   return id;
 }
 
-bool Node::add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error) {
+bool Node::add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error,
+                      SetupFailure* failure) {
   driver->node_ = this;
-  if (!driver->setup(*this, setup, error)) return false;
+  if (!driver->setup(*this, setup, error)) {
+    if (failure != nullptr) *failure = driver->setup_failure_;
+    return false;
+  }
   drivers_.push_back(std::move(driver));
   return true;
 }
@@ -95,6 +99,10 @@ const wire::Address& Node::address(DeviceId device) const { return devices_[devi
 bool Node::has_readers(DeviceId device) const {
   const Device& dev = devices_[device];
   return !dev.readers.empty() || !dev.subscribers.empty();
+}
+
+void Node::forget_data(DeviceId device) {
+  for (DataSlot& slot : devices_[device].slots) slot.frame.clear();  // keeps the capacity
 }
 
 void Node::subscribe(DeviceId source, Driver* driver) {
@@ -263,6 +271,11 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   }
   Reader* r = find_reader(dev, client);
   if (r == nullptr) {
+    // Before the reader is added: what the driver publishes now is stored
+    // and reaches the reader below, once, after the Ack.
+    if (!has_readers(id) && (uint8_t(access) & uint8_t(wire::Access::Read)) && dev.driver != nullptr) {
+      dev.driver->on_read_start(id);
+    }
     dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});
     r = &dev.readers.back();
     auto& c = server_->clients_[client];

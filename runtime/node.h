@@ -80,8 +80,10 @@ class Node final : public TimerHandler {
   /// `robot_name` is what `troupe ls` shows before the interface ("r0").
   DeviceId add_device(const wire::Address& addr, Driver* driver, std::string_view driver_name,
                       std::string_view robot_name = {});
-  /// Takes ownership of a driver and calls its setup(); false with `error`.
-  bool add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error);
+  /// Takes ownership of a driver and calls its setup(); false with `error`
+  /// and, when given, `failure` saying whether its hardware is missing.
+  bool add_driver(std::unique_ptr<Driver> driver, const DriverSetup& setup, std::string& error,
+                  SetupFailure* failure = nullptr);
   /// Opens the listening sockets. False with `error` (e.g. port in use).
   bool start(std::string& error);
   /// Runs until stop() (or a signal handler calling it).
@@ -113,6 +115,10 @@ class Node final : public TimerHandler {
   /// True while some client (or a driver) reads the device's data: a driver
   /// may skip computing data nobody reads.
   bool has_readers(DeviceId device) const;
+  /// Drops the device's stored samples (a new reader gets nothing until the
+  /// next publish): for a driver whose stored data went stale while nobody
+  /// read the device.
+  void forget_data(DeviceId device);
 
   /// Delivers `source`'s data to `driver->on_data()` (a driver's "requires").
   void subscribe(DeviceId source, Driver* driver);

@@ -4,11 +4,24 @@
 #include <cstring>
 #include <memory>
 
+#include "flatbuffers/reflection_generated.h"
+#include "runtime/config_edit.h"
 #include "runtime/log.h"
 #include "wire/address.h"
 
+// This board's node config schema (flatc --schema -b), embedded at build time.
+extern const unsigned char troupe_config_bfbs[];
+
 namespace troupe {
 namespace {
+
+const reflection::Schema& board_schema() { return *reflection::GetSchema(troupe_config_bfbs); }
+
+// One call site of the verifier, whose code is large for a board.
+bool verified(const std::vector<uint8_t>& bytes) {
+  flatbuffers::Verifier verifier(bytes.data(), bytes.size());
+  return config::VerifyNodeConfigBuffer(verifier);
+}
 
 bool read_file(const std::string& path, std::vector<uint8_t>& out, std::string& error) {
   FILE* f = fopen(path.c_str(), "rb");
@@ -72,14 +85,27 @@ bool load_config(const std::string& path, LoadedConfig& out, std::string& error)
   } else if (!parse_config_json(std::string(raw.begin(), raw.end()), path, out.bytes, error)) {
     return false;
   }
-  flatbuffers::Verifier verifier(out.bytes.data(), out.bytes.size());
-  if (!config::VerifyNodeConfigBuffer(verifier)) {
+  if (!verified(out.bytes)) {
     error = path + ": not a valid node config (the FlatBuffers verifier refused it)";
     return false;
   }
   out.root = config::GetNodeConfig(out.bytes.data());
   return true;
 }
+
+bool set_config_value(LoadedConfig& cfg, const char* assignment, std::string& error) {
+  std::vector<uint8_t> bytes = cfg.bytes;
+  if (!set_config_value(board_schema(), bytes, assignment, error)) return false;
+  if (!verified(bytes)) {
+    error = "internal: the changed config does not verify";
+    return false;
+  }
+  cfg.bytes = std::move(bytes);
+  cfg.root = config::GetNodeConfig(cfg.bytes.data());
+  return true;
+}
+
+std::string config_to_json(const LoadedConfig& cfg) { return config_to_json(board_schema(), cfg.bytes.data()); }
 
 Node::Options node_options(const config::NodeConfig& cfg) {
   Node::Options o;
@@ -98,7 +124,7 @@ Node::Options node_options(const config::NodeConfig& cfg) {
   return o;
 }
 
-bool build_node(Node& node, const LoadedConfig& cfg, std::string& error) {
+bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFailure* failure) {
   const auto* instances = cfg.root->drivers();
   if (instances == nullptr || instances->size() == 0) {
     log_warn("%s: no drivers: the node serves no devices", cfg.path.c_str());
@@ -179,7 +205,7 @@ bool build_node(Node& node, const LoadedConfig& cfg, std::string& error) {
     setup.provides = p.provides;
     setup.required = p.required;
     std::string why;
-    if (!node.add_driver(std::move(created[i]), setup, why)) {
+    if (!node.add_driver(std::move(created[i]), setup, why, failure)) {
       error = where(cfg.path, i, p.name) + ": " + why;
       return false;
     }

@@ -43,6 +43,16 @@ struct LoadedConfig {
 /// and the offending key or line.
 bool load_config(const std::string& path, LoadedConfig& out, std::string& error);
 
+/// Changes one value of a loaded config, "INSTANCE.KEY=VALUE" or
+/// "KEY=VALUE" (runtime/config_edit.h), checked against this board's schema
+/// as the config itself is. On failure `cfg` is unchanged and `error` says
+/// what is wrong.
+bool set_config_value(LoadedConfig& cfg, const char* assignment, std::string& error);
+
+/// The config as JSON, every setting and option with the value the node
+/// runs with (runtime/config_edit.h).
+std::string config_to_json(const LoadedConfig& cfg);
+
 /// Parses JSON text against the node config schema; false with `error`
 /// ("path:line:col: what") when the board has no parser or the text is bad.
 bool parse_config_json(const std::string& text, const std::string& path, std::vector<uint8_t>& binary,
@@ -53,8 +63,9 @@ Node::Options node_options(const config::NodeConfig& cfg);
 
 /// Registers every instance's devices, then creates and sets up each driver
 /// in order. On the first failure returns false, `error` naming the file, the
-/// instance and the problem; the caller must not start the node.
-bool build_node(Node& node, const LoadedConfig& cfg, std::string& error);
+/// instance and the problem, and `failure` (when given) whether a driver
+/// found its hardware missing; the caller must not start the node.
+bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFailure* failure = nullptr);
 
 /// Names of the drivers compiled into this board, comma-separated.
 std::string board_driver_names();

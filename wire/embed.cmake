@@ -6,5 +6,6 @@ string(REGEX REPLACE "([0-9a-f][0-9a-f])" "0x\\1," bytes "${hex}")
 string(REGEX REPLACE "((0x..,){16})" "\\1\n" bytes "${bytes}")
 file(WRITE ${OUTPUT}
   "// Generated from ${INPUT}; do not edit.\n"
-  "extern const unsigned char ${SYMBOL}[] = {\n${bytes}0};\n"
+  "// Aligned: FlatBuffers read 8-byte scalars in place (ARM faults on some unaligned loads).\n"
+  "alignas(16) extern const unsigned char ${SYMBOL}[] = {\n${bytes}0};\n"
   "extern const unsigned ${SYMBOL}_size = ${size};\n")

@@ -14,9 +14,13 @@
 namespace troupe::cansimple {
 namespace {
 
+// Leaves errno as the failed call set it, for the caller to tell why.
 bool fail(std::string& error, const std::string& what, int fd = -1) {
-  error = what + ": " + strerror(errno);
+  const int why = errno;
+  error = what + ": " + strerror(why);
+  if (why == ENODEV) error += " (no interface of that name: `ip link` lists them)";
   if (fd >= 0) close(fd);
+  errno = why;
   return false;
 }
 
@@ -38,8 +42,12 @@ int open_can_socket(const std::string& ifname, std::span<const uint8_t> node_ids
   }
   int fd = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
   if (fd < 0) {
-    fail(error, "socket(PF_CAN, SOCK_RAW, CAN_RAW)");
-    if (errno == EAFNOSUPPORT) error += " (this kernel has no CAN support; load the can and can-raw modules)";
+    if (errno == EAFNOSUPPORT) {
+      fail(error, "CAN interface '" + ifname + "': this kernel has no CAN support (socket(PF_CAN)");
+      error += "); load the can and can-raw modules";
+    } else {
+      fail(error, "socket(PF_CAN, SOCK_RAW, CAN_RAW)");
+    }
     return -1;
   }
   if (!node_ids.empty()) {

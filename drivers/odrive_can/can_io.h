@@ -17,7 +17,9 @@ namespace troupe::cansimple {
 /// ("can0"). With `node_ids` non-empty, kernel filters let through only
 /// standard data frames from those nodes (any command); remote frames and
 /// other nodes' traffic never reach the process. Returns the descriptor, or
-/// -1 with `error` saying which step failed and why.
+/// -1 with `error` saying which step failed and why, and errno
+/// EAFNOSUPPORT (no CAN in this kernel) or ENODEV (no such interface) when
+/// the bus is not there.
 int open_can_socket(const std::string& ifname, std::span<const uint8_t> node_ids, std::string& error);
 
 /// Sets O_NONBLOCK on a descriptor handed over by someone else.

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 
 #include "drivers/odrive_can/can_io.h"
 #include "drivers/odrive_can/odrive_can.h"
@@ -122,7 +123,11 @@ bool OdriveCan::open_bus(std::string& error) {
   } else {
     const uint8_t ids[2] = {axes_[0].node_id, axes_[1].node_id};
     fd_ = cansimple::open_can_socket(ifname_, ids, error);
-    if (fd_ < 0) return false;
+    if (fd_ < 0) {
+      // The config may be right for a robot whose bus is not up yet.
+      if (errno == EAFNOSUPPORT || errno == ENODEV) setup_failure_ = SetupFailure::MissingDevice;
+      return false;
+    }
     own_fd_ = true;
   }
   if (!node_->loop().watch(fd_, EPOLLIN, this)) {

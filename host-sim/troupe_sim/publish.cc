@@ -8,33 +8,64 @@ namespace troupe::sim {
 
 void SimServer::publish() {
   for (const Device& d : devices_) {
-    if (!node_->has_readers(d.id)) continue;
-    switch (d.kind) {
-      case Kind::Position:
-        publish_position(d);
-        break;
-      case Kind::Ranger:
-        publish_ranger(d);
-        break;
-      case Kind::Blobfinder:
-        publish_blobs(d);
-        break;
-      case Kind::Fiducial:
-        publish_fiducials(d);
-        break;
-      case Kind::Bumper:
-        publish_bumper(d);
-        break;
-      case Kind::Power:
-        publish_power(d);
-        break;
-      case Kind::Simulation:
-        publish_clock(d);
-        publish_poses(d);
-        break;
-      case Kind::Map:
-        break;
-    }
+    if (node_->has_readers(d.id)) publish_one(d);
+  }
+}
+
+void SimServer::on_read_start(DeviceId id) {
+  const Device* d = find(id);
+  if (d == nullptr || d->kind == Kind::Map) return;
+  // publish() skips a device nobody reads: what the node holds for this one
+  // is from when it was last read (the robot may have driven on since). The
+  // new reader gets the current sample, or, for a sensor not computed at
+  // this step, nothing until a step computes it.
+  node_->forget_data(id);
+  uint64_t computed_at = world_.steps();
+  switch (d->kind) {
+    case Kind::Ranger:
+      computed_at = world_.ranger(d->index).step;
+      break;
+    case Kind::Blobfinder:
+      computed_at = world_.blobfinder(d->index).step;
+      break;
+    case Kind::Fiducial:
+      computed_at = world_.fiducial(d->index).step;
+      break;
+    case Kind::Bumper:
+      computed_at = world_.bumper(d->index).step;
+      break;
+    default:
+      break;
+  }
+  if (computed_at == world_.steps()) publish_one(*d);
+}
+
+void SimServer::publish_one(const Device& d) {
+  switch (d.kind) {
+    case Kind::Position:
+      publish_position(d);
+      break;
+    case Kind::Ranger:
+      publish_ranger(d);
+      break;
+    case Kind::Blobfinder:
+      publish_blobs(d);
+      break;
+    case Kind::Fiducial:
+      publish_fiducials(d);
+      break;
+    case Kind::Bumper:
+      publish_bumper(d);
+      break;
+    case Kind::Power:
+      publish_power(d);
+      break;
+    case Kind::Simulation:
+      publish_clock(d);
+      publish_poses(d);
+      break;
+    case Kind::Map:
+      break;
   }
 }
 

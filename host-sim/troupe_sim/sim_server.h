@@ -28,6 +28,7 @@ class SimServer final : public Driver, private SimulationModels {
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_command(DeviceId device, const wire::Message& command) override;
   void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
+  void on_read_start(DeviceId device) override;
 
   /// Sets every sensor's wanted flag: read by a client, or asked for by a
   /// controller (the flags set before the server started). True when a
@@ -51,6 +52,7 @@ class SimServer final : public Driver, private SimulationModels {
 
   void add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface, uint16_t local);
   const Device* find(DeviceId id) const;
+  void publish_one(const Device& d);
   void publish_position(const Device& d);
   void publish_ranger(const Device& d);
   void publish_blobs(const Device& d);

@@ -141,5 +141,56 @@ TEST_F(ConfigTest, BinaryFormLoadsTheSame) {
   EXPECT_NE(error.find("bad.bin: not a valid node config"), std::string::npos) << error;
 }
 
+// --set copies the config through its schema with one value replaced: lists
+// of strings and of structs, other instances, node settings, all survive.
+TEST_F(ConfigTest, SetChangesOneValueAndKeepsEverythingElse) {
+  std::string path = write("desk.json", R"({
+  "name": "desk",
+  "clients": ["laptop.pub", "robot.pub"],
+  "drivers": [
+    { "driver_type": "fusion", "name": "ekf",
+      "driver": { "gate": 16.5, "landmarks": [ { "id": 7, "x": 1.5, "y": -2, "a": 0.25 }, { "id": 9, "x": 3, "y": 4, "a": 0 } ] },
+      "provides": ["position2d:1"], "uses": ["position2d:0"] },
+    { "driver_type": "ros2", "driver": { "namespaces": ["r0", "r1"], "domain_id": 3 }, "provides": ["opaque:0"] }
+  ]
+})");
+  LoadedConfig cfg;
+  std::string error;
+  ASSERT_TRUE(load_config(path, cfg, error)) << error;
+  const std::string before = config_to_json(cfg);
+  ASSERT_TRUE(set_config_value(cfg, "ekf.gate=10", error)) << error;
+  ASSERT_TRUE(set_config_value(cfg, "ros2.node_name=bridge", error)) << error;  // an option not given yet
+  ASSERT_TRUE(set_config_value(cfg, "max_clients=8", error)) << error;
+  EXPECT_FLOAT_EQ(cfg.root->drivers()->Get(0)->driver_as_fusion()->gate(), 10.0f);
+  EXPECT_EQ(cfg.root->drivers()->Get(1)->driver_as_ros2()->node_name()->str(), "bridge");
+  EXPECT_EQ(node_options(*cfg.root).max_clients, 8);
+
+  std::string expected = before;
+  auto replace = [&expected](const std::string& from, const std::string& to) {
+    size_t at = expected.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    expected.replace(at, from.size(), to);
+  };
+  replace("\"gate\": 16.5", "\"gate\": 10");
+  replace("\"domain_id\": 3,\n", "\"domain_id\": 3,\n        \"node_name\": \"bridge\",\n");
+  replace("\"max_clients\": 64", "\"max_clients\": 8");
+  EXPECT_EQ(config_to_json(cfg), expected);
+  EXPECT_NE(expected.find("{ \"id\": 7, \"x\": 1.5, \"y\": -2, \"a\": 0.25 }"), std::string::npos) << expected;
+  EXPECT_NE(expected.find("\"namespaces\": [\"r0\", \"r1\"]"), std::string::npos) << expected;
+}
+
+TEST_F(ConfigTest, AFailedSetLeavesTheConfigAsItWas) {
+  std::string path = write("good.json", kGood);
+  LoadedConfig cfg;
+  std::string error;
+  ASSERT_TRUE(load_config(path, cfg, error)) << error;
+  const std::vector<uint8_t> bytes = cfg.bytes;
+  EXPECT_FALSE(set_config_value(cfg, "kinematic.max_speed=fast", error));
+  EXPECT_FALSE(set_config_value(cfg, "kinematic.max_speed=1e39", error));
+  EXPECT_NE(error.find("out of range"), std::string::npos) << error;
+  EXPECT_EQ(cfg.bytes, bytes);
+  EXPECT_FLOAT_EQ(cfg.root->drivers()->Get(0)->driver_as_kinematic()->max_speed(), 0.7f);
+}
+
 }  // namespace
 }  // namespace troupe

@@ -161,6 +161,42 @@ TEST_F(SecureNode, KeyWithoutClientsDoesNotStart) {
   EXPECT_NE(r.err.find("\"key\" without \"clients\""), std::string::npos) << r.err;
 }
 
+// Secure by default: a node that would serve plain TCP beyond loopback
+// does not start unless told --insecure, and then says so in its log; one
+// with its key and clients serves any address quietly.
+TEST_F(SecureNode, PlainTcpBeyondLoopbackMustBeAskedForAndIsLogged) {
+  const std::string plain = dir_ + "/plain.json";
+  std::ofstream(plain) << R"({ "listen": "0.0.0.0", "port": 0,
+  "drivers": [ { "driver_type": "kinematic", "provides": ["position2d:0"] } ] })";
+  Result refused = run({kBin + "/troupe-node", plain});
+  EXPECT_EQ(refused.rc, 2);
+  EXPECT_NE(refused.err.find("troupe-node: serving 0.0.0.0:0 in plain TCP would let any machine"), std::string::npos)
+      << refused.err;
+
+  const uint16_t port = troupe::testing::free_port();
+  ChildProcess open_node;
+  std::string error;
+  ASSERT_TRUE(open_node.start({kBin + "/troupe-node", plain, "--port", std::to_string(port), "--insecure"}, dir_,
+                              "plain-node", error))
+      << error;
+  EXPECT_TRUE(open_node.wait_for("insecure: troupe-node on 0.0.0.0:" + std::to_string(port) + " serves plain TCP",
+                                 true, kRunMs))
+      << open_node.err();
+  Result ls = run({kBin + "/troupe", "ls", "127.0.0.1:" + std::to_string(port)});
+  EXPECT_EQ(ls.rc, 0) << ls.err;
+  EXPECT_EQ(open_node.stop(), 0);
+
+  // With its key and clients it needs no flag, and warns of nothing.
+  const std::string keyed = dir_ + "/keyed.json";
+  std::ofstream(keyed) << R"({ "listen": "0.0.0.0", "port": 0, "key": "node", "clients": [{ "key": "laptop.pub" }],
+  "drivers": [ { "driver_type": "kinematic", "provides": ["position2d:0"] } ] })";
+  ChildProcess secure;
+  ASSERT_TRUE(secure.start({kBin + "/troupe-node", keyed}, dir_, "keyed-node", error)) << error;
+  EXPECT_TRUE(secure.wait_for("serving 1 devices on 0.0.0.0:", true, kRunMs)) << secure.err();
+  EXPECT_EQ(secure.err().find("insecure"), std::string::npos) << secure.err();
+  EXPECT_EQ(secure.stop(), 0);
+}
+
 // Rights by device pattern: a monitoring laptop reads everything and
 // commands nothing; the operator's station reads everything and commands
 // the base it drives, not the other one; the laptop, listed without rights,

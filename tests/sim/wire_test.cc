@@ -130,6 +130,54 @@ TEST_F(WireTest, SimulationPosesAndReset) {
   EXPECT_GT(sim.sim_time_us(), 0u);
 }
 
+// The simulator publishes only what someone reads, so the node's stored
+// sample of a device nobody read is from when it was last read: a new
+// reader must get the current one first (it got t=0.1 s, x=0 while the
+// robot stood at 2.19 m).
+TEST_F(WireTest, ANewReaderFirstGetsTheCurrentSampleNotAStaleOne) {
+  {
+    client::Client first("127.0.0.1", runner_.port());
+    ASSERT_TRUE(first.connect()) << first.error();
+    client::Position2dProxy base(first, 0, 0);
+    client::RangerProxy laser(first, 0, 0);
+    client::SimulationProxy sim(first);
+    ASSERT_TRUE(sim.step(1));
+    ASSERT_TRUE(first.sync());
+    ASSERT_EQ(base.time_us(), 100000u);
+    ASSERT_NEAR(base.x(), 0.0, 1e-6);
+    ASSERT_NEAR(laser.range(90), 5.0, 0.02);  // the wall ahead
+  }  // gone: r0's odometry and laser have no reader now
+
+  client::Client c("127.0.0.1", runner_.port());
+  ASSERT_TRUE(c.connect()) << c.error();
+  client::SimulationProxy sim(c);
+  ASSERT_TRUE(sim.set_pose("r0", {2.19f, 0.5f, 0.25f}));  // its odometry follows (gps)
+  ASSERT_TRUE(sim.step(5));
+  const uint64_t now_us = sim.sim_time_us();
+  ASSERT_EQ(now_us, 600000u);
+
+  client::Position2dProxy base(c, 0, 0);
+  ASSERT_TRUE(base.is_open()) << c.error();
+  ASSERT_TRUE(c.sync());  // paused: no step publishes anything after the Open
+  ASSERT_EQ(base.samples(), 1u);
+  EXPECT_EQ(base.time_us(), now_us);
+  EXPECT_NEAR(base.x(), 2.19, 1e-5);
+  EXPECT_NEAR(base.y(), 0.5, 1e-5);
+  EXPECT_NEAR(base.a(), 0.25, 1e-5);
+
+  // A sensor nobody reads is not computed: its first sample is the scan the
+  // simulator computes for the new reader, from where the robot stands.
+  // It comes after the Open's Ack, when the server loop has seen the new
+  // reader: wait for it (the bound only ends a hang).
+  client::RangerProxy laser(c, 0, 0);
+  ASSERT_TRUE(laser.is_open()) << c.error();
+  for (int i = 0; i < 2000 && laser.samples() == 0; ++i) c.spin_once(10);
+  ASSERT_EQ(laser.samples(), 1u);
+  EXPECT_EQ(laser.time_us(), now_us);
+  ASSERT_EQ(laser.count(), 181u);
+  EXPECT_NEAR(laser.range(90), (5.0 - 2.19) / std::cos(0.25), 0.02);  // the wall x = 5, seen 0.25 rad off
+}
+
 TEST_F(WireTest, BadRequestsAreRefusedAndTheServerGoesOn) {
   client::Client c("127.0.0.1", runner_.port());
   ASSERT_TRUE(c.connect()) << c.error();

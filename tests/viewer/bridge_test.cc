@@ -256,11 +256,15 @@ TEST_F(BridgeTest, APageSeesTheRobotsTheMapAndTheirPoses) {
   EXPECT_EQ(cell_at(0, 0, 41), int(wire::Cell::Free));
   EXPECT_EQ(cell_at(2, 3.1, 42), int(wire::Cell::Occupied));
 
-  // Ground truth after each step, while someone reads simulation:0.
+  // Ground truth at once for a new reader of simulation:0, then after each
+  // step while someone reads it.
   auto& ob = w_.start();
   auto open = wire::CreateOpen(ob, wire::Access::All);
   page.send(w_.finish(wire::make_header(sim_, wire::Kind::Open, 0, 5, 0), wire::Body::Open, open.Union()));
   ASSERT_FALSE(page.reply(5).empty());
+  auto current = page.data(wire::Body::SimPoses);
+  ASSERT_FALSE(current.empty());
+  EXPECT_EQ(msg(current)->body_as_SimPoses()->sim_time_us(), 0u);
   auto& sb = w_.start();
   auto step = wire::CreateSimStep(sb, 1);
   page.send(

@@ -45,6 +45,7 @@ constexpr Command kCommands[] = {
     {"play", "FILE", "serve a recorded log again, as a node", nullptr},
     {"sim", "WORLD", "simulate a Stage world and serve its robots", nullptr},
     {"node", "CONFIG", "run a device server (troupe-node)", nullptr},
+    {"config", "compile|print CONFIG", "compile a node config for a board, or show one", nullptr},
     {"view", "HOST", "the browser viewer for a live node", nullptr},
     {"logmap", "LOG -o MAP.png", "draw an occupancy map from a CARMEN log", nullptr},
     {"mcl-eval", "LOG", "Monte Carlo localization on a CARMEN log, scored", nullptr},
