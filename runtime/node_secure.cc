@@ -69,7 +69,8 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     const std::string where = cfg.path + ": clients[" + std::to_string(i) + "]";
     noise::Key key;
     const std::string key_text = entry.key()->str();  // required: the verifier saw it
-    if (!noise::parse_key_hex(key_text, key) && !noise::read_public_key(config_relative(cfg.path, key_text), key, why)) {
+    if (!noise::parse_key_hex(key_text, key) &&
+        !noise::read_public_key(config_relative(cfg.path, key_text), key, why)) {
       error = where + ": " + why;
       return false;
     }

@@ -45,8 +45,9 @@ class SecurePassthrough : public ::testing::Test {
   }
   void TearDown() override {
     if (desktop_.running()) desktop_.stop();
-    if (HasFailure()) std::fprintf(stderr, "---- desktop\n%s---- robot\n%s", desktop_.err().c_str(),
-                                   robot_.node().err().c_str());
+    if (HasFailure())
+      std::fprintf(stderr, "---- desktop\n%s---- robot\n%s", desktop_.err().c_str(),
+                   robot_.node().err().c_str());
   }
   // The desktop's config beside the keys, naming them by relative paths (the
   // node runs from another folder), with `driver_extra` in passthrough's options.
@@ -56,13 +57,14 @@ class SecurePassthrough : public ::testing::Test {
                         << R"(, "drivers": [ { "driver_type": "passthrough",
       "driver": { "host": "127.0.0.1", "port": )"
                         << robot_.port() << R"(, "remote": ["position2d:0"], "backoff_min": 0.05,
-                  "backoff_max": 0.5)" << driver_extra
-                        << R"( }, "provides": ["position2d:3", "opaque:0"] } ] })";
+                  "backoff_max": 0.5)"
+                        << driver_extra << R"( }, "provides": ["position2d:3", "opaque:0"] } ] })";
     return path;
   }
   void start_desktop(const std::string& driver_extra) {
     std::string error;
-    ASSERT_TRUE(desktop_.start({kNode, desktop_config(driver_extra)}, robot_.dir(), "desktop", error)) << error;
+    ASSERT_TRUE(desktop_.start({kNode, desktop_config(driver_extra)}, robot_.dir(), "desktop", error))
+        << error;
     ASSERT_TRUE(wait_for_listener(desktop_port_, kDeadlineS)) << desktop_.err();
   }
   // Connects `c` and follows the passthrough's status device into status_.
@@ -112,8 +114,9 @@ TEST_F(SecurePassthrough, AWrongNodeKeyIsRefusedAndTheLinkSaysWhy) {
   Client c("127.0.0.1", desktop_port_);
   watch_status(c);
   ASSERT_TRUE(spin_until(c, [&] {
-    return status_.find("during the secure handshake: it does not accept our key, does not hold the key we know "
-                        "for it") != std::string::npos;
+    return status_.find(
+               "during the secure handshake: it does not accept our key, does not hold the key we know "
+               "for it") != std::string::npos;
   })) << status_;
   EXPECT_NE(status_.find("\"state\":\"reconnecting\""), std::string::npos) << status_;
   EXPECT_TRUE(desktop_.wait_for("during the secure handshake", true, 10'000)) << desktop_.err();

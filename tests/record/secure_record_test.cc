@@ -41,8 +41,8 @@ class SecureRecord : public ::testing::Test {
   // `troupe record` of the robot's position2d:0 into `log`, as `identity`
   // holding `node_key`.
   Outcome record(const std::string& log, const std::string& identity, const std::string& node_key) {
-    std::vector<std::string> args = {bin("bin/troupe"), "record", robot_.host(), "position2d:0",
-                                     "-o",              log,      "--count",     "5"};
+    std::vector<std::string> args = {bin("bin/troupe"), "record", robot_.host(), "position2d:0", "-o", log,
+                                     "--count",         "5"};
     for (const std::string& a : secure_args(robot_, identity, node_key)) args.push_back(a);
     return run_program(args);
   }
@@ -91,7 +91,8 @@ TEST_F(SecureRecord, AWrongNodeKeyIsRefusedAndNothingIsRecorded) {
   EXPECT_EQ(rec.rc, 1);
   EXPECT_NE(rec.err.find("during the secure handshake"), std::string::npos) << rec.err;
   EXPECT_NE(rec.err.find("does not hold the key we know for it"), std::string::npos) << rec.err;
-  EXPECT_TRUE(robot_.node().wait_for("does not hold this node's public key", true, 10'000)) << robot_.node().err();
+  EXPECT_TRUE(robot_.node().wait_for("does not hold this node's public key", true, 10'000))
+      << robot_.node().err();
   record::LogReader reader;
   std::string error;
   EXPECT_FALSE(reader.open(log, error)) << "a refused session writes no log";

@@ -45,11 +45,13 @@ TEST_F(SecureRos2, AWrongNodeKeyIsRefusedSayingWhy) {
   ProgramResult r = print_config("laptop.pub");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.out, "");
-  EXPECT_NE(r.err.find("during the secure handshake: it does not accept our key, does not hold the key we know "
-                       "for it"),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find("during the secure handshake: it does not accept our key, does not hold the key we know "
+                 "for it"),
+      std::string::npos)
       << r.err;
-  EXPECT_TRUE(robot_.node().wait_for("does not hold this node's public key", true, 10'000)) << robot_.node().err();
+  EXPECT_TRUE(robot_.node().wait_for("does not hold this node's public key", true, 10'000))
+      << robot_.node().err();
 }
 
 }  // namespace

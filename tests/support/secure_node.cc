@@ -33,7 +33,8 @@ bool SecureNodeProcess::start(const std::string& clients, const std::string& dri
   port_ = free_port();
   const std::string config = path("node.json");
   std::ofstream(config) << R"({ "name": "secure-robot", "listen": "127.0.0.1", "port": )" << port_
-                        << R"(, "key": "node", "clients": )" << clients << R"(, "drivers": )" << drivers << " }";
+                        << R"(, "key": "node", "clients": )" << clients << R"(, "drivers": )" << drivers
+                        << " }";
   if (!node_.start({kBin + "/troupe-node", config}, dir_, "troupe-node", error)) return false;
   if (!wait_for_listener(port_, 10)) {
     error = "troupe-node did not start: " + node_.err();

@@ -84,7 +84,8 @@ TEST_F(SecureBridge, AWrongNodeKeyClosesThePagesWebSocketSayingWhy) {
   EXPECT_FALSE(first.has_value()) << "nothing of the node may reach the page";
   EXPECT_EQ(page.close_reason().code, boost::beast::websocket::close_code::policy_error);
   EXPECT_NE(reason(page).find("the node refused the secure session"), std::string::npos) << reason(page);
-  EXPECT_TRUE(robot_.node().wait_for("does not hold this node's public key", true, 10'000)) << robot_.node().err();
+  EXPECT_TRUE(robot_.node().wait_for("does not hold this node's public key", true, 10'000))
+      << robot_.node().err();
 }
 
 TEST_F(SecureBridge, AnUnreadableIdentityStopsTheViewerAtOpen) {

@@ -158,7 +158,8 @@ CLI::Option* add_log_level(CLI::App& app) {
 }
 
 void add_secure_session(CLI::App& app, wire::noise::ClientKeys& keys) {
-  app.add_option("--identity", keys.identity, "a secure session: our secret key file (troupe keygen NAME writes one)")
+  app.add_option("--identity", keys.identity,
+                 "a secure session: our secret key file (troupe keygen NAME writes one)")
       ->type_name("FILE");
   app.add_option("--node-key", keys.node_key,
                  "a secure session: the node's public key (its NAME.pub, or 64 hex digits); default: "

@@ -16,13 +16,14 @@ bool client_options(const ClientKeys& keys, const std::string& host, uint16_t po
   // The known-nodes file writes an IPv6 host in brackets, as an address is typed.
   const bool v6 = host.find(':') != std::string::npos && host.front() != '[';
   const std::string host_port = (v6 ? "[" + host + "]" : host) + ":" + std::to_string(port);
-  const bool node_key = keys.node_key.empty() ? find_known_node(known_nodes_path(), host_port, out.peer_key, error)
-                                              : read_public_key(keys.node_key, out.peer_key, error);
+  const bool node_key = keys.node_key.empty()
+                            ? find_known_node(known_nodes_path(), host_port, out.peer_key, error)
+                            : read_public_key(keys.node_key, out.peer_key, error);
   return node_key && read_secret_key(keys.identity, out.identity, error);
 }
 
-std::shared_ptr<NoiseTransport> client_transport(const ClientKeys& keys, const std::string& host, uint16_t port,
-                                                 std::string& error) {
+std::shared_ptr<NoiseTransport> client_transport(const ClientKeys& keys, const std::string& host,
+                                                 uint16_t port, std::string& error) {
   error.clear();
   if (!keys.secure()) return nullptr;
   SecureOptions o;

@@ -37,7 +37,7 @@ bool client_options(const ClientKeys& keys, const std::string& host, uint16_t po
 /// client_options() as a transport for the connection core. nullptr with
 /// `error` empty when `keys` ask for no secure session; nullptr with `error`
 /// when they cannot be read.
-std::shared_ptr<NoiseTransport> client_transport(const ClientKeys& keys, const std::string& host, uint16_t port,
-                                                 std::string& error);
+std::shared_ptr<NoiseTransport> client_transport(const ClientKeys& keys, const std::string& host,
+                                                 uint16_t port, std::string& error);
 
 }  // namespace troupe::wire::noise
