@@ -42,6 +42,9 @@ struct DriverSetup {
   /// Devices this instance requires (provided by other instances), in config
   /// order. The driver gets their data through on_data() once it subscribes.
   std::span<const DeviceId> required;
+  /// The config file's path ("" when the config came from elsewhere): a
+  /// file an option names is relative to its folder (config_relative()).
+  std::string config_path;
 };
 
 /// Why a driver refused to set up, which decides what the node says last:

@@ -124,6 +124,12 @@ Node::Options node_options(const config::NodeConfig& cfg) {
   return o;
 }
 
+std::string config_relative(const std::string& config_path, const std::string& path) {
+  if (path.empty() || path.front() == '/') return path;
+  const size_t slash = config_path.rfind('/');
+  return slash == std::string::npos ? path : config_path.substr(0, slash + 1) + path;
+}
+
 bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFailure* failure) {
   const auto* instances = cfg.root->drivers();
   if (instances == nullptr || instances->size() == 0) {
@@ -204,6 +210,7 @@ bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFa
     setup.name = p.name;
     setup.provides = p.provides;
     setup.required = p.required;
+    setup.config_path = cfg.path;
     std::string why;
     if (!node.add_driver(std::move(created[i]), setup, why, failure)) {
       error = where(cfg.path, i, p.name) + ": " + why;

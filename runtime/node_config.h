@@ -58,6 +58,10 @@ std::string config_to_json(const LoadedConfig& cfg);
 bool parse_config_json(const std::string& text, const std::string& path, std::vector<uint8_t>& binary,
                        std::string& error);
 
+/// `path` as a file the config at `config_path` names: relative to the
+/// config's folder unless absolute.
+std::string config_relative(const std::string& config_path, const std::string& path);
+
 /// Node::Options as the config sets them.
 Node::Options node_options(const config::NodeConfig& cfg);
 

@@ -14,13 +14,6 @@ namespace {
 
 namespace noise = wire::noise;
 
-// A key file named in the config: relative to the config's folder.
-std::string beside(const std::string& config_path, const std::string& path) {
-  if (path.empty() || path.front() == '/') return path;
-  const size_t slash = config_path.rfind('/');
-  return slash == std::string::npos ? path : config_path.substr(0, slash + 1) + path;
-}
-
 // The rights a client's entry grants: everything when it lists none.
 bool client_rights(const config::TrustedClient& entry, std::shared_ptr<const Rights>& out, std::string& error) {
   const std::pair<Right, const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>*> lists[] = {
@@ -59,7 +52,7 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
   }
   noise::KeyPair identity;
   std::string why;
-  if (!noise::read_secret_key(beside(cfg.path, root.key()->str()), identity, why)) {
+  if (!noise::read_secret_key(config_relative(cfg.path, root.key()->str()), identity, why)) {
     error = cfg.path + ": key: " + why;
     return false;
   }
@@ -76,7 +69,8 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     const std::string where = cfg.path + ": clients[" + std::to_string(i) + "]";
     noise::Key key;
     const std::string key_text = entry.key()->str();  // required: the verifier saw it
-    if (!noise::parse_key_hex(key_text, key) && !noise::read_public_key(beside(cfg.path, key_text), key, why)) {
+    if (!noise::parse_key_hex(key_text, key) &&
+        !noise::read_public_key(config_relative(cfg.path, key_text), key, why)) {
       error = where + ": " + why;
       return false;
     }

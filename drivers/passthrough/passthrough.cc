@@ -5,6 +5,9 @@
 #include "runtime/log.h"
 #include "runtime/node.h"
 #include "wire/body_copy.h"
+#include "wire/noise/client_keys.h"
+#include "wire/noise/key_file.h"
+#include "wire/noise/noise_transport.h"
 
 namespace troupe::drivers::passthrough {
 namespace {
@@ -14,6 +17,19 @@ constexpr uint64_t kStatusPeriodUs = 1'000'000;  // the status device repeats it
 
 uint64_t seconds_to_us(float s) {
   return s > 0 ? uint64_t(double(s) * 1e6) : 0;
+}
+
+// The keys `identity` and `node_key` name, files relative to the config's
+// folder (a node key may be 64 hex digits instead).
+wire::noise::ClientKeys client_keys(const OptionsView<Options>& opt, const DriverSetup& setup) {
+  wire::noise::ClientKeys keys;
+  if (opt->identity() != nullptr) keys.identity = config_relative(setup.config_path, opt->identity()->str());
+  if (opt->node_key() != nullptr) {
+    wire::noise::Key key;
+    const std::string text = opt->node_key()->str();
+    keys.node_key = wire::noise::parse_key_hex(text, key) ? text : config_relative(setup.config_path, text);
+  }
+  return keys;
 }
 
 }  // namespace
@@ -77,6 +93,13 @@ bool Passthrough::setup(Node& node, const DriverSetup& setup, std::string& error
   lo.connect_timeout_us = seconds_to_us(opt->connect_timeout());
   lo.idle_timeout_us = seconds_to_us(opt->idle_timeout());
   lo.limits = node.options().limits;
+  const wire::noise::ClientKeys keys = client_keys(opt, setup);
+  if (keys.identity.empty() && !keys.node_key.empty()) {
+    error = "node_key without identity: a secure session needs this node's secret key file as well";
+    return false;
+  }
+  lo.transport = wire::noise::client_transport(keys, lo.host, lo.port, error);
+  if (!error.empty()) return false;
   in_flight_.resize(kMaxInFlight);
   node_ = &node;
   since_us_ = node.loop().now_us();
@@ -89,7 +112,8 @@ bool Passthrough::setup(Node& node, const DriverSetup& setup, std::string& error
       return false;
     }
   }
-  log_info("%s: serving %zu devices of %s", name_.c_str(), devices_.size(), link_->remote_text().c_str());
+  log_info("%s: serving %zu devices of %s%s", name_.c_str(), devices_.size(), link_->remote_text().c_str(),
+           lo.transport ? " through a secure session" : "");
   return true;
 }
 

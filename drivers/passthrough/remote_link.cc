@@ -33,7 +33,9 @@ bool RemoteLink::start(const LinkOptions& options, std::string& error) {
   c.keepalive_timeout_us = options.idle_timeout_us - options.idle_timeout_us / 4;
   c.max_output_bytes = options.max_queue_bytes;
   c.sync_clock = false;
-  link_ = std::make_unique<wire::SocketLink>(options.host, options.port, std::move(c), wire::resolve_numeric);
+  transport_ = options.transport;
+  link_ = std::make_unique<wire::SocketLink>(options.host, options.port, std::move(c), wire::resolve_numeric,
+                                             transport_.get());
   link_->on_close([this](int fd) { forget(fd); });
   link_->start();
   service();

@@ -47,6 +47,9 @@ struct LinkOptions {
   /// link is dropped (and rebuilt) rather than grown.
   size_t max_queue_bytes = 4u << 20;
   wire::Limits limits;
+  /// A secure session's transport (wire/noise/client_keys.h) under every
+  /// connection; nullptr: plain TCP.
+  std::shared_ptr<wire::Transport> transport;
 };
 
 class RemoteLink final : public FdHandler, public TimerHandler {
@@ -97,6 +100,7 @@ class RemoteLink final : public FdHandler, public TimerHandler {
 
   EventLoop& loop_;
   LinkListener& listener_;
+  std::shared_ptr<wire::Transport> transport_;  // the link's, kept as long as it
   std::unique_ptr<wire::SocketLink> link_;
   std::string remote_text_;
   pollfd watched_[wire::kMaxAttemptsInFlight]{};

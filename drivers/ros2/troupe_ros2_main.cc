@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <set>
 #include <string>
 #include <vector>
@@ -20,6 +21,9 @@
 #include "wire/address.h"
 #include "wire/cli/args.h"
 #include "wire/client/client.h"
+#include "wire/noise/client_keys.h"
+#include "wire/noise/key_file.h"
+#include "wire/noise/noise_transport.h"
 
 namespace {
 
@@ -81,6 +85,9 @@ struct Settings {
   double max_linear = 1.5, max_angular = 3.0;
   std::string time = "Auto";  // ros2.fbs TimeSource
   uint16_t local_port = 0;
+  /// A secure remote: our secret key file (absolute) and the remote's key
+  /// as 64 hex digits, as passthrough's options take them; empty: plain.
+  std::string identity, node_key_hex;
 };
 
 // The node config: passthrough of every bridgeable device, and ros2 using them.
@@ -116,6 +123,9 @@ std::string make_config(const Settings& s, const std::string& host,
          ",\n  \"drivers\": [\n    {\n      \"name\": \"remote\",\n      \"driver_type\": \"passthrough\",\n"
          "      \"driver\": { \"host\": " +
          quoted(host) + ", \"port\": " + std::to_string(s.port) + ", \"remote\": " + json_list(remote) +
+         (s.identity.empty()
+              ? std::string()
+              : ", \"identity\": " + quoted(s.identity) + ", \"node_key\": " + quoted(s.node_key_hex)) +
          " },\n      \"provides\": " + json_list(provides) +
          "\n    },\n    {\n      \"name\": \"ros2\",\n      \"driver_type\": \"ros2\",\n      \"driver\": "
          "{ " +
@@ -145,6 +155,7 @@ int main(int argc, char** argv) {
        "name the peers in CYCLONEDDS_URI (see drivers/ros2/README.md).\n",
        {"troupe ros2 localhost                       # e.g. troupe-sim examples/worlds/swarm100.world",
         "troupe ros2 192.168.1.20:6665 --domain 7",
+        "troupe ros2 192.168.1.20 --identity laptop --node-key robot7.pub",
         "troupe ros2 localhost --print-config > bridge.json    # then: troupe-node bridge.json"}});
   app->add_option("HOST", target, "HOST[:PORT]")->required();
   app->add_option("--domain", s.domain, "DDS domain (default: ROS_DOMAIN_ID, else 0)")
@@ -170,6 +181,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "sim", "wall"}));
   troupe::cli::add_port(*app, "--port", s.local_port,
                         "this node's own Troupe port (default 0: any free port)");
+  troupe::wire::noise::ClientKeys keys;
+  troupe::cli::add_secure_session(*app, keys);
   troupe::cli::add_log_level(*app);
   app->add_flag("--print-config", print_config, "print the node config (for troupe-node) and exit");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
@@ -181,6 +194,20 @@ int main(int argc, char** argv) {
   }
   s.host = hp.host;
   s.port = hp.port;
+  // A secure remote: the keys are read here, once, for the device list and
+  // for the passthrough (which gets them as an absolute path and hex digits,
+  // so a printed config works from any folder).
+  std::shared_ptr<troupe::wire::Transport> transport;
+  if (keys.secure()) {
+    troupe::wire::noise::SecureOptions secure;
+    if (!troupe::wire::noise::client_options(keys, hp.host, hp.port, secure, error)) {
+      troupe::log_error("%s", error.c_str());
+      return 1;
+    }
+    s.identity = std::filesystem::absolute(keys.identity).lexically_normal().string();
+    s.node_key_hex = troupe::wire::noise::key_hex(secure.peer_key);
+    transport = std::make_shared<troupe::wire::noise::NoiseTransport>(std::move(secure));
+  }
 
   // Signals are taken by the node's loop (StopOnSignal); DDS starts threads of
   // its own, which must not take them either: block them before any starts.
@@ -196,6 +223,7 @@ int main(int argc, char** argv) {
     troupe::client::Client::Options co;
     co.name = "troupe-ros2";
     co.reconnect = false;
+    co.transport = transport;
     bool waiting_said = false;
     while (true) {
       troupe::client::Client client(host, s.port, co);

@@ -7,6 +7,13 @@
 #include "runtime/log.h"
 
 namespace troupe::viewer {
+namespace {
+
+// The node's sealed bytes read at once, bytes (a Noise message is at most
+// 65,537 with its length; the session reassembles across reads).
+constexpr size_t kSealedReadBytes = 16 * 1024;
+
+}  // namespace
 
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
@@ -18,6 +25,10 @@ BridgeSession::BridgeSession(tcp::socket page, std::shared_ptr<ServerState> serv
       server_(std::move(server)),
       node_in_(server_->options.limits.max_frame_bytes) {
   ++server_->sessions;
+  if (server_->secure) {
+    noise_ = std::make_unique<wire::noise::NoiseTransport>(*server_->secure);
+    node_raw_.resize(kSealedReadBytes);
+  }
 }
 
 BridgeSession::~BridgeSession() {
@@ -51,8 +62,39 @@ void BridgeSession::on_connect(beast::error_code ec) {
                 "cannot reach the node at " + o.node_host + ":" + std::to_string(o.node_port));
   }
   node_.set_option(tcp::no_delay(true));
+  if (noise_) {
+    // The page's frames wait (in its socket) until the session is up.
+    node_out_.clear();
+    noise_->begin(node_out_);
+    return write_node(&BridgeSession::read_node);
+  }
   read_page();
   read_node();
+}
+
+void BridgeSession::write_node(void (BridgeSession::*next)()) {
+  boost::asio::async_write(node_, boost::asio::buffer(node_out_),
+                           [self = shared_from_this(), next](beast::error_code write_ec, size_t) {
+                             if (write_ec)
+                               return self->fail(websocket::close_code::going_away, "node connection lost");
+                             ((*self).*next)();
+                           });
+}
+
+bool BridgeSession::open_node_bytes(size_t bytes) {
+  const bool was_ready = noise_->ready();
+  std::vector<uint8_t> reply;
+  std::string error;
+  if (!noise_->inbound(std::span<const uint8_t>(node_raw_.data(), bytes), node_in_, reply, error)) {
+    fail(websocket::close_code::policy_error, "secure session failed: " + error);
+    return false;
+  }
+  // IK's initiator has nothing to answer to message 2: the session is up.
+  if (!was_ready && noise_->ready()) {
+    log_info("viewer: secure session with the node (key %s)", noise_->peer_identity().c_str());
+    read_page();
+  }
+  return true;
 }
 
 void BridgeSession::read_page() {
@@ -83,6 +125,12 @@ void BridgeSession::on_page_frame(beast::error_code ec, size_t bytes) {
     return fail(websocket::close_code::bad_payload,
                 "frame refused: " + std::string(wire::verify_error_text(why)));
   }
+  if (noise_) {
+    node_out_.clear();
+    noise_->outbound(frame, node_out_);
+    page_in_.clear();
+    return write_node(&BridgeSession::read_page);
+  }
   boost::asio::async_write(node_, boost::asio::buffer(frame.data(), frame.size()),
                            [self = shared_from_this()](beast::error_code write_ec, size_t) {
                              self->page_in_.clear();
@@ -93,6 +141,11 @@ void BridgeSession::on_page_frame(beast::error_code ec, size_t bytes) {
 }
 
 void BridgeSession::read_node() {
+  if (noise_) {
+    node_.async_read_some(boost::asio::buffer(node_raw_),
+                          beast::bind_front_handler(&BridgeSession::on_node_bytes, shared_from_this()));
+    return;
+  }
   const std::span<uint8_t> space = node_in_.write_space();
   node_.async_read_some(boost::asio::buffer(space.data(), space.size()),
                         beast::bind_front_handler(&BridgeSession::on_node_bytes, shared_from_this()));
@@ -100,10 +153,20 @@ void BridgeSession::read_node() {
 
 void BridgeSession::on_node_bytes(beast::error_code ec, size_t bytes) {
   if (ec || closing_) {
-    if (!closing_) fail(websocket::close_code::going_away, "the node closed the connection");
-    return;
+    if (closing_) return;
+    // A secure node answers nothing to a handshake it refuses.
+    if (noise_ && !noise_->ready()) {
+      return fail(websocket::close_code::policy_error,
+                  "the node refused the secure session: it does not accept our key, or does not hold the key "
+                  "we know for it");
+    }
+    return fail(websocket::close_code::going_away, "the node closed the connection");
   }
-  node_in_.commit(bytes);
+  if (noise_) {
+    if (!open_node_bytes(bytes)) return;
+  } else {
+    node_in_.commit(bytes);
+  }
   for (std::span<const uint8_t> f = node_in_.next(); !f.empty(); f = node_in_.next()) {
     to_page_.emplace_back(f.begin(), f.end());
   }

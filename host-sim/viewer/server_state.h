@@ -4,10 +4,12 @@
 
 #include <boost/asio/ip/tcp.hpp>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "host-sim/viewer/view_server.h"
+#include "wire/noise/noise_transport.h"
 
 namespace troupe::viewer {
 
@@ -15,6 +17,9 @@ struct ServerState {
   ViewOptions options;
   /// The node's addresses, resolved once at open().
   boost::asio::ip::tcp::resolver::results_type node;
+  /// A secure node's session options, each page's session a copy; nullptr:
+  /// plain TCP.
+  std::shared_ptr<const wire::noise::SecureOptions> secure;
   /// WebSockets open now.
   uint32_t sessions = 0;
   /// This machine's names, which a page's Host may use (origin_check.h).

@@ -18,11 +18,14 @@ int main(int argc, char** argv) {
   std::string node;
   auto app = troupe::cli::make_app(
       "troupe view",
-      {"troupe view HOST[:PORT] [--http-port P] [--listen ADDR] [--root DIR] [--allow-origin O]...",
+      {"troupe view HOST[:PORT] [--http-port P] [--listen ADDR] [--identity FILE] [--node-key KEY] [options]",
        "Serves the browser viewer bridged to the node at HOST[:PORT] (default port 6665)\n"
        "and prints its URL. The page shows the node's devices: laser scans, odometry\n"
-       "trails, the map of a map device; with troupe-sim, the whole world.\n",
-       {"troupe view localhost", "troupe view robot7.local:6670 --http-port 8080 --listen 0.0.0.0"}});
+       "trails, the map of a map device; with troupe-sim, the whole world.\n"
+       "To a node with keys the viewer connects through a secure session as\n"
+       "--identity; the page then talks to the node through it.\n",
+       {"troupe view localhost", "troupe view robot7.local:6670 --http-port 8080 --listen 0.0.0.0",
+        "troupe view robot7.local --identity laptop --node-key robot7.pub"}});
   app->add_option("HOST", node, "HOST[:PORT]")->required();
   troupe::cli::add_port(*app, "--http-port", options.http_port, "HTTP port (default 6680; 0: any free port)");
   app->add_option("--listen", options.listen, "address to serve the page on (default 127.0.0.1)")
@@ -35,6 +38,7 @@ int main(int argc, char** argv) {
                   "default only the page it served itself, under an address or this machine's name")
       ->type_name("O")
       ->allow_extra_args(false);
+  troupe::cli::add_secure_session(*app, options.keys);
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   troupe::wire::HostPort hp;
   std::string error;
@@ -54,7 +58,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "troupe-view: %s\n", error.c_str());
     return 1;
   }
-  std::printf("viewer at %s (node %s:%u)\n", server.url().c_str(), hp.host.c_str(), unsigned(hp.port));
+  std::printf("viewer at %s (node %s:%u%s)\n", server.url().c_str(), hp.host.c_str(), unsigned(hp.port),
+              options.keys.secure() ? ", secure session" : "");
   std::fflush(stdout);
   server.start_thread();
   int sig = 0;

@@ -181,6 +181,11 @@ bool ViewServer::open(std::string& error) {
     error = "cannot resolve the node's address " + o.node_host + ": " + ec.message();
     return false;
   }
+  if (o.keys.secure()) {
+    auto secure = std::make_shared<wire::noise::SecureOptions>();
+    if (!wire::noise::client_options(o.keys, o.node_host, o.node_port, *secure, error)) return false;
+    impl_->state->secure = std::move(secure);
+  }
   const auto address = boost::asio::ip::make_address(o.listen, ec);
   if (ec) {
     error = "bad listen address '" + o.listen + "': " + ec.message();

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "wire/frame.h"
+#include "wire/noise/client_keys.h"
 
 namespace troupe::viewer {
 
@@ -43,6 +44,10 @@ struct ViewOptions {
   /// Asked of every request when set (access_token.h). Empty: the server
   /// makes one if it listens beyond loopback, and none otherwise.
   std::string token;
+  /// A secure node: our identity and the node's key (read at open()). The
+  /// bridge then runs a Noise session on each page's TCP connection and
+  /// passes the page plain frames both ways. Empty: plain TCP.
+  wire::noise::ClientKeys keys;
 };
 
 /// The folder holding the page's files, found from this executable's place
@@ -57,8 +62,8 @@ class ViewServer {
   ViewServer(const ViewServer&) = delete;
   ViewServer& operator=(const ViewServer&) = delete;
 
-  /// Resolves the node's address and binds the HTTP port. False with
-  /// `error` (which says what failed) when either fails.
+  /// Resolves the node's address, reads the keys of a secure node and binds
+  /// the HTTP port. False with `error` (which says what failed) when any fails.
   bool open(std::string& error);
   /// The bound HTTP port (after open()).
   uint16_t port() const;

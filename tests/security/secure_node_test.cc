@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/support/child_process.h"
+#include "tests/support/secure_node.h"
 
 namespace {
 
@@ -38,25 +39,11 @@ mode_t mode_of(const std::string& path) {
 class SecureNode : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = troupe::testing::make_temp_dir("troupe-secure-");
-    ASSERT_FALSE(dir_.empty());
-    for (const char* name : {"node", "laptop", "stranger", "monitor", "operator"}) {
-      Result r = run({kBin + "/troupe", "keygen", dir_ + "/" + name});
-      ASSERT_EQ(r.rc, 0) << r.err;
-    }
-    port_ = troupe::testing::free_port();
-    host_ = "127.0.0.1:" + std::to_string(port_);
-    config_ = dir_ + "/node.json";
-    std::ofstream(config_) << R"({
-  "name": "secure-test", "listen": "127.0.0.1", "port": )"
-                           << port_ << R"(,
-  "key": "node", "clients": )" << clients()
-                           << R"(,
-  "drivers": )" << drivers()
-                           << R"( })";
     std::string error;
-    ASSERT_TRUE(node_.start({kBin + "/troupe-node", config_}, dir_, "troupe-node", error)) << error;
-    ASSERT_TRUE(troupe::testing::wait_for_listener(port_, 10)) << "troupe-node did not start: " << node_.err();
+    ASSERT_TRUE(rig_.make_keys({"laptop", "stranger", "monitor", "operator"}, error)) << error;
+    ASSERT_TRUE(rig_.start(clients(), drivers(), error)) << error;
+    dir_ = rig_.dir();
+    host_ = rig_.host();
   }
   virtual std::string clients() const { return R"([{ "key": "laptop.pub" }])"; }
   virtual std::string drivers() const {
@@ -66,7 +53,6 @@ class SecureNode : public ::testing::Test {
     if (node_.running()) {
       EXPECT_EQ(node_.stop(), 0) << node_.err();
     }
-    troupe::testing::remove_tree(dir_);
   }
   // `troupe ARGS... HOST` as `identity` with `node_key` ("" leaves the flag out).
   Result troupe(std::vector<std::string> args, const std::string& identity, const std::string& node_key) {
@@ -88,9 +74,9 @@ class SecureNode : public ::testing::Test {
     EXPECT_EQ(known.out, "position2d:0\tkinematic\n");
   }
 
-  ChildProcess node_;
-  std::string dir_, config_, host_;
-  uint16_t port_ = 0;
+  troupe::testing::SecureNodeProcess rig_;
+  ChildProcess& node_ = rig_.node();
+  std::string dir_, host_;
 };
 
 TEST_F(SecureNode, KeygenWritesAPrivateSecretAndRefusesToOverwrite) {
@@ -135,8 +121,7 @@ TEST_F(SecureNode, TheKnownNodesFileNamesTheNodesKey) {
   EXPECT_NE(unknown.rc, 0);
   EXPECT_NE(unknown.err.find("no key known for " + host_), std::string::npos) << unknown.err;
 
-  std::string tag, key;
-  std::ifstream(dir_ + "/node.pub") >> tag >> key;
+  const std::string key = rig_.node_key_hex();
   std::ofstream(config_home + "/troupe/known_nodes") << "# nodes this laptop talks to\nother:6665 " << key << "\n"
                                                       << host_ << " " << key << "\n";
   Result known = troupe({"ls", host_}, "laptop", "");

@@ -157,6 +157,16 @@ CLI::Option* add_log_level(CLI::App& app) {
       ->check(CLI::IsMember({"error", "warn", "info", "debug"}));
 }
 
+void add_secure_session(CLI::App& app, wire::noise::ClientKeys& keys) {
+  app.add_option("--identity", keys.identity,
+                 "a secure session: our secret key file (troupe keygen NAME writes one)")
+      ->type_name("FILE");
+  app.add_option("--node-key", keys.node_key,
+                 "a secure session: the node's public key (its NAME.pub, or 64 hex digits); default: "
+                 "the node's line in the known-nodes file (~/.config/troupe/known_nodes)")
+      ->type_name("KEY");
+}
+
 CLI::Option* add_port(CLI::App& app, const std::string& flag, uint16_t& port, const std::string& what) {
   return app.add_option(flag, port, what)->type_name("P")->check(between(0, 65535));
 }

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "wire/noise/client_keys.h"
+
 namespace troupe::cli {
 
 /// Exit codes of every tool: 0 ok, 1 a runtime failure (no host, no device,
@@ -56,6 +58,10 @@ CLI::Validator between(double min, double max);
 /// `--log-level LEVEL`, one of error, warn, info, debug: sets the program's
 /// log level (wire/log.h) when given.
 CLI::Option* add_log_level(CLI::App& app);
+
+/// `--identity FILE` and `--node-key KEY`: a secure session with the node
+/// (wire/noise/client_keys.h turns them into the session's transport).
+void add_secure_session(CLI::App& app, wire::noise::ClientKeys& keys);
 
 /// A port number 0..65535 (0: any free port, where the program says so).
 CLI::Option* add_port(CLI::App& app, const std::string& flag, uint16_t& port, const std::string& what);

@@ -2,7 +2,7 @@
 
 #include "wire/address.h"
 #include "wire/cli/cli.h"
-#include "wire/noise/key_file.h"
+#include "wire/noise/client_keys.h"
 #include "wire/noise/noise_transport.h"
 
 namespace troupe::cli {
@@ -10,12 +10,9 @@ namespace {
 
 // --identity and --node-key, as the command line gave them (one command
 // runs per process).
-struct SecureFlags {
-  std::string identity, node_key;
-};
-SecureFlags& secure_flags() {
-  static SecureFlags flags;
-  return flags;
+wire::noise::ClientKeys& secure_keys() {
+  static wire::noise::ClientKeys keys;
+  return keys;
 }
 
 }  // namespace
@@ -33,35 +30,14 @@ int usage_error(std::string_view command, const std::string& message) {
 
 void add_host(CLI::App& app, std::string& host) {
   app.add_option("HOST", host, "HOST[:PORT]")->required();
-  app.add_option("--identity", secure_flags().identity,
-                 "a secure session: our secret key file (troupe keygen NAME writes one)")
-      ->type_name("FILE");
-  app.add_option("--node-key", secure_flags().node_key,
-                 "a secure session: the node's public key (its NAME.pub, or 64 hex digits); default: "
-                 "the node's line in the known-nodes file (~/.config/troupe/known_nodes)")
-      ->type_name("KEY");
+  add_secure_session(app, secure_keys());
 }
 
 bool secure_options(const wire::HostPort& node, client::Client::Options& options) {
-  const SecureFlags& f = secure_flags();
-  if (f.identity.empty() && f.node_key.empty()) return true;
-  if (f.identity.empty()) {
-    fail("a secure session needs --identity FILE (our secret key) with --node-key");
-    return false;
-  }
-  wire::noise::SecureOptions o;
   std::string error;
-  const bool v6 = node.host.find(':') != std::string::npos && node.host.front() != '[';
-  const std::string host_port = (v6 ? "[" + node.host + "]" : node.host) + ":" + std::to_string(node.port);
-  const bool node_key = f.node_key.empty()
-                            ? wire::noise::find_known_node(wire::noise::known_nodes_path(), host_port, o.peer_key, error)
-                            : wire::noise::read_public_key(f.node_key, o.peer_key, error);
-  if (!node_key || !wire::noise::read_secret_key(f.identity, o.identity, error)) {
-    fail(error);
-    return false;
-  }
-  options.transport = std::make_shared<wire::noise::NoiseTransport>(std::move(o));
-  return true;
+  options.transport = wire::noise::client_transport(secure_keys(), node.host, node.port, error);
+  if (!error.empty()) fail(error);
+  return error.empty();
 }
 
 void add_device(CLI::App& app, std::string& addr) {

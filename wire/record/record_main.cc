@@ -8,6 +8,8 @@
 #include "wire/address.h"
 #include "wire/cli/args.h"
 #include "wire/log.h"
+#include "wire/noise/client_keys.h"
+#include "wire/noise/noise_transport.h"
 #include "wire/record/recorder.h"
 #include "wire/stop_signals.h"
 
@@ -16,6 +18,7 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
   troupe::record::RecordOptions options;
   std::string host;
+  troupe::wire::noise::ClientKeys keys;
   double duration_s = 0, timeout_s = 3;
   auto app = troupe::cli::make_app(
       "troupe record",
@@ -27,7 +30,8 @@ int main(int argc, char** argv) {
        "ADDR is [ROBOT/]INTERFACE:INDEX, e.g. position2d:0 or r3/ranger:1.\n",
        {"troupe record localhost position2d:0 ranger:0 -o run1.trl",
         "troupe record robot7.local:6670 r0/ranger:1 -o laser.trl --duration 60",
-        "troupe record localhost position2d:0 -o ten.trl --count 10"}});
+        "troupe record localhost position2d:0 -o ten.trl --count 10",
+        "troupe record robot7.local r0/ranger:0 -o laser.trl --identity laptop --node-key robot7.pub"}});
   app->add_option("HOST", host, "HOST[:PORT]");
   app->add_option("ADDR", options.devices, "the devices to record");
   app->add_option("-o,--output", options.output, "the log to write (replaced if it exists)")->type_name("FILE");
@@ -38,6 +42,7 @@ int main(int argc, char** argv) {
   app->add_option("--timeout", timeout_s, "wait this long for the node to connect and reply (default 3)")
       ->type_name("S")
       ->check(troupe::cli::above(0) & troupe::cli::at_most(3600));
+  troupe::cli::add_secure_session(*app, keys);
   troupe::cli::add_log_level(*app);
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   auto usage_error = [&](const std::string& message) { return troupe::cli::usage_error(*app, message); };
@@ -55,6 +60,11 @@ int main(int argc, char** argv) {
   }
   options.host = hp.host;
   options.port = hp.port;
+  options.transport = troupe::wire::noise::client_transport(keys, hp.host, hp.port, error);
+  if (!error.empty()) {
+    troupe::log_error("%s", error.c_str());
+    return 1;
+  }
 
   troupe::StopSignals stop;
   troupe::record::Recorder recorder(options);

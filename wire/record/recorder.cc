@@ -45,7 +45,8 @@ wire::ConnectionOptions connection_options(const RecordOptions& o) {
 
 Recorder::Recorder(RecordOptions options)
     : options_(std::move(options)),
-      link_(options_.host, options_.port, connection_options(options_), options_.resolver) {}
+      link_(options_.host, options_.port, connection_options(options_), options_.resolver,
+            options_.transport.get()) {}
 
 double Recorder::elapsed_s() const {
   return start_us_ ? double(monotonic_us() - start_us_) * 1e-6 : 0.0;

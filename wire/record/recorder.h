@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct RecordOptions {
   uint32_t reconnect_max_ms = 2000;
   /// Looks up the host: every address it gives is tried, in order.
   wire::Resolver resolver = wire::resolve_system;
+  /// A secure session's transport (wire/noise/client_keys.h), under every
+  /// connection and reconnection; nullptr: plain TCP.
+  std::shared_ptr<wire::Transport> transport;
 };
 
 class Recorder {
