@@ -59,28 +59,44 @@ void publish_odometry(Node& node, DeviceId odom, uint64_t t_us, const Pose2& p) 
   node.publish(odom, uint8_t(wire::Position2dDataSub::State), wire::Body::Position2dState, body.Union(), t_us);
 }
 
-TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
-  std::string dir = desktop::testing::scratch_dir();
-  std::ofstream(dir + "/fusion.json") << R"({ "port": 0, "drivers": [
+// A node running the config `json`, with a Source serving the inputs
+// (INTERFACE:0 each) and reading fusion's output.
+class FusionDriver : public ::testing::Test {
+ protected:
+  void start(const std::string& json, std::initializer_list<wire::Interface> inputs) {
+    const std::string dir = desktop::testing::scratch_dir();
+    std::ofstream(dir + "/fusion.json") << json;
+    std::string error;
+    ASSERT_TRUE(load_config(dir + "/fusion.json", cfg_, error)) << error;
+    node_ = std::make_unique<Node>(node_options(*cfg_.root));
+    auto owned = std::make_unique<Source>();
+    src_ = owned.get();
+    // The source's devices exist before the config's instances resolve "uses".
+    for (wire::Interface i : inputs) in_[i] = node_->add_device(wire::Address(0, uint16_t(i), 0), src_, "source");
+    ASSERT_TRUE(build_node(*node_, cfg_, error)) << error;
+    ASSERT_TRUE(node_->add_driver(std::move(owned), {}, error)) << error;
+  }
+
+  LoadedConfig cfg_;
+  std::unique_ptr<Node> node_;
+  Source* src_ = nullptr;  // owned by node_
+  std::map<wire::Interface, DeviceId> in_;
+};
+
+TEST_F(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
+  start(R"({ "port": 0, "drivers": [
     { "driver_type": "fusion",
       "driver": { "gyro_sigma": 0.01, "odom_speed_sigma": 0.05, "odom_turn_sigma": 0.05,
                   "landmarks": [ { "id": 7, "x": 5.0, "y": 0.0, "a": 3.14159 },
                                  { "id": 9, "x": 0.0, "y": 5.0, "a": -1.5708 } ] },
       "uses": ["position2d:0", "imu:0", "fiducial:0", "localize:0"],
-      "provides": ["position2d:1"] } ] })";
-  LoadedConfig cfg;
-  std::string error;
-  ASSERT_TRUE(load_config(dir + "/fusion.json", cfg, error)) << error;
-  Node node(node_options(*cfg.root));
-  auto owned = std::make_unique<Source>();
-  Source& src = *owned;
-  // The source's devices exist before the config's instances resolve "uses".
-  DeviceId odom = node.add_device(wire::Address(0, uint16_t(wire::Interface::Position2d), 0), &src, "source");
-  DeviceId imu = node.add_device(wire::Address(0, uint16_t(wire::Interface::Imu), 0), &src, "source");
-  DeviceId fid = node.add_device(wire::Address(0, uint16_t(wire::Interface::Fiducial), 0), &src, "source");
-  DeviceId loc = node.add_device(wire::Address(0, uint16_t(wire::Interface::Localize), 0), &src, "source");
-  ASSERT_TRUE(build_node(node, cfg, error)) << error;
-  ASSERT_TRUE(node.add_driver(std::move(owned), {}, error)) << error;
+      "provides": ["position2d:1"] } ] })",
+        {wire::Interface::Position2d, wire::Interface::Imu, wire::Interface::Fiducial, wire::Interface::Localize});
+  if (HasFatalFailure()) return;
+  Node& node = *node_;
+  Source& src = *src_;
+  const DeviceId odom = in_[wire::Interface::Position2d], imu = in_[wire::Interface::Imu],
+                 fid = in_[wire::Interface::Fiducial], loc = in_[wire::Interface::Localize];
 
   desktop::Rng rng(17);
   const uint64_t t0 = 1'000'000'000;
@@ -137,21 +153,15 @@ TEST(FusionDriver, FusesOdometryGyroFiducialsAndLateFixes) {
 // keeps publishing its best guess while it searches. Fusion must not follow
 // that guess, not even after max_gated refusals, and must follow the
 // localizer again once it has found itself, wherever that is.
-TEST(FusionDriver, IgnoresTheFixesOfALocalizerThatSaysItIsLost) {
-  std::string dir = desktop::testing::scratch_dir();
-  std::ofstream(dir + "/fusion.json") << R"({ "port": 0, "drivers": [
+TEST_F(FusionDriver, IgnoresTheFixesOfALocalizerThatSaysItIsLost) {
+  start(R"({ "port": 0, "drivers": [
     { "driver_type": "fusion", "driver": { "max_gated": 3 },
-      "uses": ["position2d:0", "localize:0"], "provides": ["position2d:1"] } ] })";
-  LoadedConfig cfg;
-  std::string error;
-  ASSERT_TRUE(load_config(dir + "/fusion.json", cfg, error)) << error;
-  Node node(node_options(*cfg.root));
-  auto owned = std::make_unique<Source>();
-  Source& src = *owned;
-  DeviceId odom = node.add_device(wire::Address(0, uint16_t(wire::Interface::Position2d), 0), &src, "source");
-  DeviceId loc = node.add_device(wire::Address(0, uint16_t(wire::Interface::Localize), 0), &src, "source");
-  ASSERT_TRUE(build_node(node, cfg, error)) << error;
-  ASSERT_TRUE(node.add_driver(std::move(owned), {}, error)) << error;
+      "uses": ["position2d:0", "localize:0"], "provides": ["position2d:1"] } ] })",
+        {wire::Interface::Position2d, wire::Interface::Localize});
+  if (HasFatalFailure()) return;
+  Node& node = *node_;
+  Source& src = *src_;
+  const DeviceId odom = in_[wire::Interface::Position2d], loc = in_[wire::Interface::Localize];
 
   // The robot stands at the origin; odometry says so at 10 Hz.
   uint64_t t = 1'000'000'000;

@@ -22,6 +22,17 @@ TROUPE_SIM = os.path.join(BINARY_DIR, "bin", "troupe-sim")
 ROOM_WORLD = os.path.join(SOURCE_DIR, "examples", "worlds", "room.world")
 
 
+def spin_until(client, done, timeout: float = 10.0) -> bool:
+    """Spins `client` until done() holds; False when `timeout` (s, a bound on
+    a failing test) passes first."""
+    deadline = time.monotonic() + timeout
+    while not done():
+        if time.monotonic() > deadline:
+            return False
+        client.spin_once(0.05)
+    return True
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))

@@ -4,7 +4,6 @@ errors, and reconnecting when the node comes back."""
 
 import math
 import socket
-import time
 import unittest
 
 import helpers
@@ -18,13 +17,7 @@ from troupe.wire.Pose2d import CreatePose2d
 from troupe.wire.Position2dReqSub import Position2dReqSub
 
 
-def spin_until(client: troupe.Client, done, timeout: float = 10.0) -> bool:
-    deadline = time.monotonic() + timeout
-    while not done():
-        if time.monotonic() > deadline:
-            return False
-        client.spin_once(0.05)
-    return True
+spin_until = helpers.spin_until
 
 
 class WithNode(unittest.TestCase):

@@ -16,7 +16,6 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 import unittest
 import zlib
 
@@ -35,12 +34,7 @@ WAIT = 10.0
 
 
 def spin_until(client: troupe.Client, done, timeout: float = WAIT) -> bool:
-    deadline = time.monotonic() + timeout
-    while not done():
-        if time.monotonic() > deadline:
-            return False
-        client.spin_once(0.05)
-    return True
+    return helpers.spin_until(client, done, timeout)
 
 
 def write_map_png(path: str) -> None:
