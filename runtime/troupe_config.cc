@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -38,8 +39,12 @@ bool load(const troupe::BoardSchema& board, const std::string& path, std::vector
   }
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const reflection::Schema& schema = *reflection::GetSchema(board.schema);
-  const char* ident = schema.file_ident()->c_str();
-  if (text.size() >= 8 && flatbuffers::BufferHasIdentifier(text.data(), ident)) {
+  // A binary config carries the schema's identifier after its root offset.
+  // (Compared by hand: GCC 12 takes flatbuffers::BufferHasIdentifier on a
+  // string's bytes for an overread.)
+  const std::string_view ident = schema.file_ident() ? schema.file_ident()->string_view() : std::string_view();
+  if (text.size() >= 8 && ident.size() == flatbuffers::kFileIdentifierLength &&
+      std::string_view(text).substr(4, ident.size()) == ident) {
     config.assign(text.begin(), text.end());
     if (!flatbuffers::Verify(schema, *schema.root_table(), config.data(), config.size())) {
       error = path + ": not a valid node config for board " + board.board;

@@ -146,7 +146,7 @@ TEST_F(ConfigTest, BinaryFormLoadsTheSame) {
 TEST_F(ConfigTest, SetChangesOneValueAndKeepsEverythingElse) {
   std::string path = write("desk.json", R"({
   "name": "desk",
-  "clients": ["laptop.pub", "robot.pub"],
+  "clients": [{ "key": "laptop.pub", "read": ["*"] }, { "key": "robot.pub" }],
   "drivers": [
     { "driver_type": "fusion", "name": "ekf",
       "driver": { "gate": 16.5, "landmarks": [ { "id": 7, "x": 1.5, "y": -2, "a": 0.25 }, { "id": 9, "x": 3, "y": 4, "a": 0 } ] },
