@@ -58,8 +58,8 @@ TEST_P(BoardConfig, TroupeConfigCompileMakesWhatTheBoardBuildMakes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, BoardConfig, ::testing::Values("ppc-node-powerpc", "ppc-node-armhf"),
-                         [](const auto& info) {
-                           std::string name = info.param;
+                         [](const auto& param_info) {
+                           std::string name = param_info.param;
                            for (char& c : name) c = c == '-' ? '_' : c;
                            return name;
                          });
