@@ -273,7 +273,7 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   if (r == nullptr) {
     // Before the reader is added: what the driver publishes now is stored
     // and reaches the reader below, once, after the Ack.
-    if (!has_readers(id) && (uint8_t(access) & uint8_t(wire::Access::Read)) && dev.driver != nullptr) {
+    if (!has_readers(id) && reads && dev.driver != nullptr) {
       dev.driver->on_read_start(id);
     }
     dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});
@@ -288,7 +288,7 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   reply_status(client, *msg.header(), Kind::Ack);
   // A new reader gets the current state at once rather than at the next
   // sample, which may be long in coming for slow devices.
-  if ((uint8_t(access) & uint8_t(wire::Access::Read)) && delivery == wire::Delivery::Push) {
+  if (reads && delivery == wire::Delivery::Push) {
     for (int slot = 0; slot < kDataSlots; ++slot) {
       if (!dev.slots[slot].frame.empty()) server_->push_data(client, id, slot, dev.slots[slot].frame);
     }
