@@ -30,6 +30,8 @@ bool DevicePattern::parse(std::string_view text, DevicePattern& out, std::string
     if (robot.empty()) return fail(": empty robot before '/'");
     out.any_robot = robot == "*";
     if (!out.any_robot) out.robot = std::string(robot);
+    // The number is read once here: the check runs for every message.
+    out.robot_number = out.any_robot ? 0 : wire::robot_number(robot);
     rest.remove_prefix(slash + 1);
   }
   const size_t colon = rest.rfind(':');
@@ -53,9 +55,8 @@ bool DevicePattern::parse(std::string_view text, DevicePattern& out, std::string
 }
 
 bool DevicePattern::matches(const wire::Address& addr, std::string_view robot_name) const {
-  const bool robot_matches = any_robot       ? true
-                             : robot.empty() ? addr.robot() == 0
-                                             : robot == robot_name || robot == std::to_string(addr.robot());
+  const bool named = !robot.empty() && robot == robot_name;
+  const bool robot_matches = any_robot || named || (robot_number >= 0 && addr.robot() == robot_number);
   if (!robot_matches) return false;
   if (iface != 0 && iface != addr.iface()) return false;
   return index < 0 || index == addr.index();

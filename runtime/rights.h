@@ -41,7 +41,8 @@ class Rights {
 /// address does. The robot is a number or the name the node gives it.
 struct DevicePattern {
   bool any_robot = false;
-  std::string robot;  // unless any_robot; empty: robot 0
+  std::string robot;         // as written, unless any_robot; empty: robot 0
+  int32_t robot_number = 0;  // `robot` as a number, -1 when it is a name
   uint16_t iface = 0;  // wire::Interface; 0 (None): any
   int32_t index = -1;  // -1: any
 
