@@ -3,6 +3,7 @@
 //   troupe-node CONFIG [--set INSTANCE.KEY=VALUE]... [--print-config] [--port N] [--listen ADDR]
 //               [--log-level LEVEL] [--max-clients N] [--max-clients-per-address N]
 //               [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]
+//   troupe-node --keygen FILE
 #include <signal.h>
 
 #include <cstdint>
@@ -29,6 +30,7 @@ const char kUsage[] =
     "                   [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
     "                   [--max-clients N] [--max-clients-per-address N]\n"
     "                   [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]\n"
+    "       troupe-node --keygen FILE\n"
     "\n"
     "Serves the devices listed in the node config CONFIG (JSON, or the binary\n"
     "`troupe config compile` makes of it) to clients over TCP. Options override\n"
@@ -46,11 +48,15 @@ const char kUsage[] =
     "  --insecure                    serve plain TCP beyond loopback (no \"key\" in the\n"
     "                                config): anyone who reaches the port may command\n"
     "                                every device; logged every minute\n"
+    "  --keygen FILE                 write this node's key pair for secure sessions: FILE\n"
+    "                                (secret, readable by its owner only) and FILE.pub;\n"
+    "                                never overwrites; the config names FILE in \"key\"\n"
     "\n"
     "examples:\n"
     "  troupe-node examples/nodes/kinematic.json\n"
     "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0 --insecure\n"
-    "  troupe-node examples/nodes/kinematic.json --set kinematic.max_speed=0.5 --print-config\n";
+    "  troupe-node examples/nodes/kinematic.json --set kinematic.max_speed=0.5 --print-config\n"
+    "  troupe-node --keygen /etc/troupe-node/node.key\n";
 
 // --set words a command line takes: a robot's handful of changes, with room.
 constexpr size_t kMaxSets = 32;
@@ -79,8 +85,9 @@ int main(int argc, char** argv) {
   const char* hello_timeout = nullptr;
   const char* idle_timeout = nullptr;
   const char* sets[kMaxSets] = {};
-  size_t set_count = 0, print_config = 0, insecure = 0;
+  size_t set_count = 0, print_config = 0, insecure = 0, keygen = 0;
   const troupe::Flag flags[] = {{"--set", sets, &set_count, kMaxSets},
+                                {"--keygen", nullptr, &keygen},
                                 {"--print-config", nullptr, &print_config},
                                 {"--insecure", nullptr, &insecure},
                                 {"--port", &port},
@@ -94,6 +101,26 @@ int main(int argc, char** argv) {
   if (int rc = troupe::parse_command_line(line, argc, argv); rc >= 0) return rc;
 
   std::string error;
+  // --keygen FILE: the word after it is the positional one. A robot board
+  // has no `troupe` command, so its node makes its own key (the bundle's
+  // postinst runs this).
+  if (keygen != 0) {
+    if (argc != 3) {
+      fprintf(stderr, "troupe-node: --keygen FILE takes no other argument\n%s", kUsage);
+      return 2;
+    }
+#ifdef TROUPE_HAVE_NOISE
+    if (!troupe::write_node_key(config_path, error)) {
+      troupe::log_error("%s", error.c_str());
+      return 1;
+    }
+    return 0;
+#else
+    troupe::log_error("--keygen: board %s is built without secure sessions (libsodium): it serves plain TCP only",
+                      troupe::kBoardName);
+    return 1;
+#endif
+  }
   troupe::LoadedConfig cfg;
   if (!troupe::load_config(config_path, cfg, error)) {
     troupe::log_error("%s", error.c_str());
