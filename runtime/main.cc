@@ -30,7 +30,9 @@ const char kUsage[] =
     "                   [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
     "                   [--max-clients N] [--max-clients-per-address N]\n"
     "                   [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]\n"
+#ifdef TROUPE_HAVE_NOISE
     "       troupe-node --keygen FILE\n"
+#endif
     "\n"
     "Serves the devices listed in the node config CONFIG (JSON, or the binary\n"
     "`troupe config compile` makes of it) to clients over TCP. Options override\n"
@@ -48,15 +50,20 @@ const char kUsage[] =
     "  --insecure                    serve plain TCP beyond loopback (no \"key\" in the\n"
     "                                config): anyone who reaches the port may command\n"
     "                                every device; logged every minute\n"
+#ifdef TROUPE_HAVE_NOISE
     "  --keygen FILE                 write this node's key pair for secure sessions: FILE\n"
     "                                (secret, readable by its owner only) and FILE.pub;\n"
     "                                never overwrites; the config names FILE in \"key\"\n"
+#endif
     "\n"
     "examples:\n"
     "  troupe-node examples/nodes/kinematic.json\n"
     "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0 --insecure\n"
     "  troupe-node examples/nodes/kinematic.json --set kinematic.max_speed=0.5 --print-config\n"
-    "  troupe-node --keygen /etc/troupe-node/node.key\n";
+#ifdef TROUPE_HAVE_NOISE
+    "  troupe-node --keygen /etc/troupe-node/node.key\n"
+#endif
+    ;
 
 // --set words a command line takes: a robot's handful of changes, with room.
 constexpr size_t kMaxSets = 32;
@@ -103,21 +110,21 @@ int main(int argc, char** argv) {
   std::string error;
   // --keygen FILE: the word after it is the positional one. A robot board
   // has no `troupe` command, so its node makes its own key (the bundle's
-  // postinst runs this).
+  // postinst runs this). Where it has no secure sessions (the core: its
+  // 64 KiB budget), the flag only says so, in as few bytes as it can.
   if (keygen != 0) {
+#ifdef TROUPE_HAVE_NOISE
     if (argc != 3) {
       fprintf(stderr, "troupe-node: --keygen FILE takes no other argument\n%s", kUsage);
       return 2;
     }
-#ifdef TROUPE_HAVE_NOISE
     if (!troupe::write_node_key(config_path, error)) {
       troupe::log_error("%s", error.c_str());
       return 1;
     }
     return 0;
 #else
-    troupe::log_error("--keygen: board %s is built without secure sessions (libsodium): it serves plain TCP only",
-                      troupe::kBoardName);
+    troupe::log_error("--keygen: board %s is built without secure sessions", troupe::kBoardName);
     return 1;
 #endif
   }
