@@ -19,7 +19,10 @@
 #include "runtime/log.h"
 #include "runtime/node_config.h"
 #ifdef TROUPE_HAVE_NOISE
+#include <unistd.h>
+
 #include "runtime/node_secure.h"
+#include "wire/noise/key_file.h"
 #endif
 #include "runtime/stop_signals.h"
 
@@ -78,6 +81,23 @@ bool flag_number(const char* flag, const char* text, unsigned long min, unsigned
   return false;
 }
 
+#ifdef TROUPE_HAVE_NOISE
+// --keygen FILE: this node's key pair, FILE (the secret, mode 0600) and
+// FILE.pub, named after this machine's host name (the .pub is what the
+// desktop is given), printed as `troupe keygen` prints its pair. Refuses
+// to overwrite either; false with `error`.
+bool write_node_key(const std::string& path, std::string& error) {
+  namespace noise = troupe::wire::noise;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') snprintf(host, sizeof host, "troupe-node");
+  noise::Key key;
+  if (!noise::write_key_pair(path, host, error) || !noise::read_public_key(path + ".pub", key, error)) return false;
+  printf("%s: secret key (readable by its owner only)\n%s.pub: public key %s\n", path.c_str(), path.c_str(),
+         noise::key_hex(key).c_str());
+  return true;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,7 +138,7 @@ int main(int argc, char** argv) {
       fprintf(stderr, "troupe-node: --keygen FILE takes no other argument\n%s", kUsage);
       return 2;
     }
-    if (!troupe::write_node_key(config_path, error)) {
+    if (!write_node_key(config_path, error)) {
       troupe::log_error("%s", error.c_str());
       return 1;
     }

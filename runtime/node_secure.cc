@@ -1,9 +1,6 @@
 #include "runtime/node_secure.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cstdio>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -100,16 +97,6 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     auto it = rights->find(peer);
     return it == rights->end() ? std::make_shared<const PatternRights>() : it->second;  // unknown: nothing
   };
-  return true;
-}
-
-bool write_node_key(const std::string& path, std::string& error) {
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') std::snprintf(host, sizeof host, "troupe-node");
-  noise::Key key;
-  if (!noise::write_key_pair(path, host, error) || !noise::read_public_key(path + ".pub", key, error)) return false;
-  std::printf("%s: secret key (readable by its owner only)\n%s.pub: public key %s\n", path.c_str(), path.c_str(),
-              noise::key_hex(key).c_str());
   return true;
 }
 

@@ -17,10 +17,4 @@ namespace troupe {
 /// and the key) when a key cannot be read or no client is listed.
 bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::string& error);
 
-/// `troupe-node --keygen`: writes this node's key pair as `path` (the
-/// secret, mode 0600) and `path`.pub (named after this machine's host name,
-/// which is what the desktop is given), then prints both on stdout as
-/// `troupe keygen` does. Refuses to overwrite either; false with `error`.
-bool write_node_key(const std::string& path, std::string& error);
-
 }  // namespace troupe
