@@ -3,6 +3,7 @@
 //   troupe-node CONFIG [--set INSTANCE.KEY=VALUE]... [--print-config] [--port N] [--listen ADDR]
 //               [--log-level LEVEL] [--max-clients N] [--max-clients-per-address N]
 //               [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]
+//   troupe-node --keygen FILE
 #include <signal.h>
 
 #include <cstdint>
@@ -18,7 +19,10 @@
 #include "runtime/log.h"
 #include "runtime/node_config.h"
 #ifdef TROUPE_HAVE_NOISE
+#include <unistd.h>
+
 #include "runtime/node_secure.h"
+#include "wire/noise/key_file.h"
 #endif
 #include "runtime/stop_signals.h"
 
@@ -29,6 +33,9 @@ const char kUsage[] =
     "                   [--port N] [--listen ADDR] [--log-level error|warn|info|debug]\n"
     "                   [--max-clients N] [--max-clients-per-address N]\n"
     "                   [--hello-timeout-ms MS] [--idle-timeout-ms MS] [--insecure]\n"
+#ifdef TROUPE_HAVE_NOISE
+    "       troupe-node --keygen FILE\n"
+#endif
     "\n"
     "Serves the devices listed in the node config CONFIG (JSON, or the binary\n"
     "`troupe config compile` makes of it) to clients over TCP. Options override\n"
@@ -46,11 +53,20 @@ const char kUsage[] =
     "  --insecure                    serve plain TCP beyond loopback (no \"key\" in the\n"
     "                                config): anyone who reaches the port may command\n"
     "                                every device; logged every minute\n"
+#ifdef TROUPE_HAVE_NOISE
+    "  --keygen FILE                 write this node's key pair for secure sessions: FILE\n"
+    "                                (secret, readable by its owner only) and FILE.pub;\n"
+    "                                never overwrites; the config names FILE in \"key\"\n"
+#endif
     "\n"
     "examples:\n"
     "  troupe-node examples/nodes/kinematic.json\n"
     "  troupe-node examples/nodes/kinematic.json --port 7000 --listen 0.0.0.0 --insecure\n"
-    "  troupe-node examples/nodes/kinematic.json --set kinematic.max_speed=0.5 --print-config\n";
+    "  troupe-node examples/nodes/kinematic.json --set kinematic.max_speed=0.5 --print-config\n"
+#ifdef TROUPE_HAVE_NOISE
+    "  troupe-node --keygen /etc/troupe-node/node.key\n"
+#endif
+    ;
 
 // --set words a command line takes: a robot's handful of changes, with room.
 constexpr size_t kMaxSets = 32;
@@ -64,6 +80,23 @@ bool flag_number(const char* flag, const char* text, unsigned long min, unsigned
   fprintf(stderr, "troupe-node: bad %s '%s' (%lu to %lu)\n", flag, text, min, max);
   return false;
 }
+
+#ifdef TROUPE_HAVE_NOISE
+// --keygen FILE: this node's key pair, FILE (the secret, mode 0600) and
+// FILE.pub, named after this machine's host name (the .pub is what the
+// desktop is given), printed as `troupe keygen` prints its pair. Refuses
+// to overwrite either; false with `error`.
+bool write_node_key(const std::string& path, std::string& error) {
+  namespace noise = troupe::wire::noise;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') snprintf(host, sizeof host, "troupe-node");
+  noise::Key key;
+  if (!noise::write_key_pair(path, host, error) || !noise::read_public_key(path + ".pub", key, error)) return false;
+  printf("%s: secret key (readable by its owner only)\n%s.pub: public key %s\n", path.c_str(), path.c_str(),
+         noise::key_hex(key).c_str());
+  return true;
+}
+#endif
 
 }  // namespace
 
@@ -79,8 +112,9 @@ int main(int argc, char** argv) {
   const char* hello_timeout = nullptr;
   const char* idle_timeout = nullptr;
   const char* sets[kMaxSets] = {};
-  size_t set_count = 0, print_config = 0, insecure = 0;
+  size_t set_count = 0, print_config = 0, insecure = 0, keygen = 0;
   const troupe::Flag flags[] = {{"--set", sets, &set_count, kMaxSets},
+                                {"--keygen", nullptr, &keygen},
                                 {"--print-config", nullptr, &print_config},
                                 {"--insecure", nullptr, &insecure},
                                 {"--port", &port},
@@ -94,6 +128,26 @@ int main(int argc, char** argv) {
   if (int rc = troupe::parse_command_line(line, argc, argv); rc >= 0) return rc;
 
   std::string error;
+  // --keygen FILE: the word after it is the positional one. A robot board
+  // has no `troupe` command, so its node makes its own key (the bundle's
+  // postinst runs this). Where it has no secure sessions (the core: its
+  // 64 KiB budget), the flag only says so, in as few bytes as it can.
+  if (keygen != 0) {
+#ifdef TROUPE_HAVE_NOISE
+    if (argc != 3) {
+      fprintf(stderr, "troupe-node: --keygen FILE takes no other argument\n%s", kUsage);
+      return 2;
+    }
+    if (!write_node_key(config_path, error)) {
+      troupe::log_error("%s", error.c_str());
+      return 1;
+    }
+    return 0;
+#else
+    troupe::log_error("--keygen: board %s is built without secure sessions", troupe::kBoardName);
+    return 1;
+#endif
+  }
   troupe::LoadedConfig cfg;
   if (!troupe::load_config(config_path, cfg, error)) {
     troupe::log_error("%s", error.c_str());

@@ -104,6 +104,38 @@ TEST_P(BundleTest, StartsFromItsUnpackedFolder) {
     EXPECT_EQ(out, "");
   }
 
+  // Secure sessions: where the node has them, the unit hands it the key
+  // the postinst makes, at one path throughout, and the node makes such a
+  // key itself; where it lacks them, neither asks for a key and the node
+  // says what it lacks. (tests/security/bundle_keys_test.cc runs the
+  // postinst and the unit's command line on the host.)
+  const std::string credential = unit_value(unit, "LoadCredential");
+  const bool secure = !credential.empty();
+  std::string key_path;
+  std::string keygen_out;
+  const std::string scratch_key = dir_ + "/scratch.key";
+  const int keygen = run(qemu_command(b, dir_ + binary, {"--keygen", scratch_key}) + " 2>&1", keygen_out);
+  if (secure) {
+    ASSERT_EQ(credential.rfind("node.key:", 0), 0u) << unit;
+    key_path = credential.substr(credential.find(':') + 1);
+    EXPECT_EQ(unit_value(unit, "AssertPathExists"), key_path) << unit;
+    EXPECT_NE(exec.find(" --set key=%d/node.key "), std::string::npos) << exec;
+    EXPECT_EQ(keygen, 0) << keygen_out;
+    struct stat st {};
+    ASSERT_EQ(stat(scratch_key.c_str(), &st), 0) << keygen_out;
+    EXPECT_EQ(st.st_mode & 07777, 0600u);
+  } else {
+    EXPECT_EQ(exec.find("key="), std::string::npos) << exec;
+    EXPECT_EQ(keygen, 1) << keygen_out;
+    EXPECT_NE(keygen_out.find("is built without secure sessions"), std::string::npos) << keygen_out;
+    EXPECT_FALSE(exists(scratch_key));
+  }
+  if (std::string(p.kind) == "deb") {
+    ASSERT_EQ(run("dpkg-deb -e " + quote(package) + " " + quote(dir_ + "/DEBIAN") + " 2>&1", out), 0) << out;
+    EXPECT_NE(read_text(dir_ + "/DEBIAN/postinst").find("\nkey=\"" + key_path + "\""), std::string::npos)
+        << "the postinst must make the key the unit hands over (" << key_path << ")";
+  }
+
   // The bundled binary is stripped: no symbol table left.
   ASSERT_EQ(run(quote(b.readelf) + " -S " + quote(dir_ + binary), out), 0);
   EXPECT_EQ(out.find(".symtab"), std::string::npos);
