@@ -15,6 +15,7 @@
 #include <string>
 
 #include "runtime/args.h"
+#include "runtime/exit_status.h"
 #include "runtime/exposure.h"
 #include "runtime/log.h"
 #include "runtime/node_config.h"
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
 #ifdef TROUPE_HAVE_NOISE
     if (argc != 3) {
       fprintf(stderr, "troupe-node: --keygen FILE takes no other argument\n%s", kUsage);
-      return 2;
+      return troupe::kExitUsage;
     }
     if (!write_node_key(config_path, error)) {
       troupe::log_error("%s", error.c_str());
@@ -151,7 +152,7 @@ int main(int argc, char** argv) {
   troupe::LoadedConfig cfg;
   if (!troupe::load_config(config_path, cfg, error)) {
     troupe::log_error("%s", error.c_str());
-    return 1;
+    return troupe::kExitConfig;
   }
   auto set = [&cfg, &error](const std::string& assignment) {
     if (troupe::set_config_value(cfg, assignment.c_str(), error)) return true;
@@ -159,7 +160,7 @@ int main(int argc, char** argv) {
     return false;
   };
   for (size_t i = 0; i < set_count; ++i) {
-    if (!set(sets[i])) return 2;
+    if (!set(sets[i])) return troupe::kExitUsage;
   }
   // The flags of node settings are --set of those settings, given last; they
   // change the config itself so that --print-config shows them too.
@@ -167,9 +168,9 @@ int main(int argc, char** argv) {
   if (level != nullptr) {
     if (!troupe::parse_log_level(level, parsed)) {
       fprintf(stderr, "troupe-node: bad log level '%s'\n%s", level, kUsage);
-      return 2;
+      return troupe::kExitUsage;
     }
-    if (!set(std::string("log_level=") + troupe::config::EnumNameLogLevel(troupe::config::LogLevel(parsed)))) return 2;
+    if (!set(std::string("log_level=") + troupe::config::EnumNameLogLevel(troupe::config::LogLevel(parsed)))) return troupe::kExitUsage;
   }
   // Their own checks first (--max-clients 0 is a mistake the schema allows).
   struct NumberFlag {
@@ -185,10 +186,10 @@ int main(int argc, char** argv) {
                                 {"--idle-timeout-ms", idle_timeout, "idle_timeout_ms=", 0, UINT32_MAX}};
   for (const NumberFlag& f : numbers) {
     if (f.text != nullptr && (!flag_number(f.flag, f.text, f.min, f.max) || !set(std::string(f.key) + f.text))) {
-      return 2;
+      return troupe::kExitUsage;
     }
   }
-  if (listen != nullptr && !set(std::string("listen=") + listen)) return 2;
+  if (listen != nullptr && !set(std::string("listen=") + listen)) return troupe::kExitUsage;
   if (print_config != 0) {
     fputs(troupe::config_to_json(cfg).c_str(), stdout);
     return 0;
@@ -200,20 +201,20 @@ int main(int argc, char** argv) {
 #ifdef TROUPE_HAVE_NOISE
   if (!troupe::secure_sessions(cfg, options, error)) {
     troupe::log_error("%s", error.c_str());
-    return 1;
+    return troupe::kExitConfig;
   }
   // Where secure sessions are built in, plain TCP beyond loopback must be
   // asked for. A board built without them can serve nothing else: it says
   // so every minute instead.
   if (!troupe::may_serve("troupe-node", options.listen, options.port, secure, insecure != 0, error)) {
     troupe::log_error("%s", error.c_str());
-    return 2;
+    return troupe::kExitUsage;
   }
 #else
   if (cfg.root->key() != nullptr) {
     troupe::log_error("%s: \"key\": board %s is built without secure sessions (libsodium)", cfg.path.c_str(),
                       troupe::kBoardName);
-    return 1;
+    return troupe::kExitConfig;
   }
 #endif
 
@@ -224,11 +225,11 @@ int main(int argc, char** argv) {
     troupe::log_error(failure == troupe::SetupFailure::MissingDevice
                           ? "not starting: a device it drives is not there (the config is fine)"
                           : "not starting: the config must be fixed first");
-    return 1;
+    return failure == troupe::SetupFailure::MissingDevice ? troupe::kExitNotYet : troupe::kExitConfig;
   }
   if (!node.start(error)) {
     troupe::log_error("%s", error.c_str());
-    return 1;
+    return troupe::kExitNotYet;
   }
   troupe::StopOnSignal stop_on_signal(node.loop(), [&node] { node.stop(); });
   std::unique_ptr<troupe::PlainServiceWarning> plain_warning;

@@ -77,10 +77,11 @@ TEST_P(BundleTest, StartsFromItsUnpackedFolder) {
   EXPECT_NE(exec.find("${TROUPE_NODE_CONFIG}"), std::string::npos) << exec;
   EXPECT_NE(unit.find("WantedBy=multi-user.target"), std::string::npos);
   // Retried after a failure (late hardware), but not when it cannot start at
-  // all: exec failures (203), the loader's refusal (127) and usage (2).
+  // all: exec failures (203), the loader's refusal (127), usage (2) and a
+  // config to fix (78).
   EXPECT_EQ(unit_value(unit, "Restart"), "on-failure");
   std::string no_retry = " " + unit_value(unit, "RestartPreventExitStatus") + " ";
-  for (const char* status : {" 2 ", " 127 ", " 203 "}) {
+  for (const char* status : {" 2 ", " 78 ", " 127 ", " 203 "}) {
     EXPECT_NE(no_retry.find(status), std::string::npos) << "RestartPreventExitStatus lacks" << status << "\n" << unit;
   }
   EXPECT_EQ(no_retry.find(" 1 "), std::string::npos) << "exit 1 (a device not there yet) must be retried";

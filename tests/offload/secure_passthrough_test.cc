@@ -130,14 +130,14 @@ TEST_F(SecurePassthrough, AWrongNodeKeyIsRefusedAndTheLinkSaysWhy) {
 TEST_F(SecurePassthrough, AMissingIdentityFileStopsTheDesktopNamingIt) {
   const std::string config = desktop_config(R"(, "identity": "nobody", "node_key": "node.pub")");
   ProgramResult r = run_to_end({kNode, config}, 30'000);
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 78);
   EXPECT_NE(r.err.find(robot_.path("nobody")), std::string::npos) << r.err;
 }
 
 TEST_F(SecurePassthrough, ANodeKeyWithoutAnIdentityStopsTheDesktop) {
   const std::string config = desktop_config(R"(, "node_key": "node.pub")");
   ProgramResult r = run_to_end({kNode, config}, 30'000);
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 78);
   EXPECT_NE(r.err.find("node_key without identity"), std::string::npos) << r.err;
 }
 

@@ -142,7 +142,7 @@ TEST_F(SecureNode, KeyWithoutClientsDoesNotStart) {
   std::ofstream(config) << R"({ "listen": "127.0.0.1", "port": 0, "key": "node",
   "drivers": [ { "driver_type": "kinematic", "provides": ["position2d:0"] } ] })";
   Result r = run({kBin + "/troupe-node", config});
-  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.rc, 78);
   EXPECT_NE(r.err.find("\"key\" without \"clients\""), std::string::npos) << r.err;
 }
 
@@ -240,7 +240,7 @@ TEST_F(SecureRights, ABadPatternStopsTheNodeAtStartNamingIt) {
   "clients": [ { "key": "laptop.pub", "command": ["position2d:0", "wheels:*"] } ],
   "drivers": [ { "driver_type": "kinematic", "provides": ["position2d:0"] } ] })";
   Result r = run({kBin + "/troupe-node", config});
-  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.rc, 78);
   EXPECT_NE(r.err.find("clients[0]: command: device pattern 'wheels:*': unknown interface 'wheels'"),
             std::string::npos)
       << r.err;
