@@ -6,7 +6,13 @@ shared libraries or fully statically: TROUPE_STATIC) the table gives the
 stripped file, its text + data (what `size` reports for the loaded image),
 the difference to the core on the same target linked the same way, and each
 driver's share: the sizes of the symbols in its namespace,
-troupe::drivers::<driver>.
+troupe::drivers::<driver>. The robot boards are built with secure sessions
+(BOARD_SECURE); the core is not, and its "core secure" rows (TROUPE_SECURE=ON)
+give their cost. For each secure row a second table breaks the secure
+sessions' bytes down: troupe's own Noise code (troupe::wire::noise and
+node_secure.cc) and libsodium, by object file of libsodium.a (from the
+linker's map; nothing of libsodium is in the file when it is linked as a
+shared library).
 
     boards/size_report.py                     # every row, build/size-report
     boards/size_report.py --only core         # the rows of one board
@@ -28,24 +34,29 @@ import tempfile
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # (board, toolchain or None for the board's own, build type or None for the
-# board's own, linked statically). The core on every target is the
-# reference of the others. pioneer-p3dx has no static row: Debian's
-# libserial-dev holds no static archive.
+# board's own, linked statically, secure: True/False, or None for the
+# board's own). The plain core on every target is the reference of the
+# others. pioneer-p3dx has no static row: Debian's libserial-dev holds no
+# static archive.
 ROWS = [
-    ("core", "arm-linux-gnueabihf", None, False),
-    ("core", "aarch64-linux-gnu", None, False),
-    ("core", "powerpc-linux-gnu", None, False),
-    ("core", "native", "MinSizeRel", False),
-    ("pioneer-p3dx", None, None, False),
-    ("diffbot-can", None, None, False),
-    ("ppc-node", None, None, False),
-    ("desktop", None, None, False),
-    ("host", None, "Release", False),
-    ("core", "arm-linux-gnueabihf", None, True),
-    ("core", "aarch64-linux-gnu", None, True),
-    ("core", "powerpc-linux-gnu", None, True),
-    ("diffbot-can", None, None, True),
-    ("ppc-node", None, None, True),
+    ("core", "arm-linux-gnueabihf", None, False, None),
+    ("core", "aarch64-linux-gnu", None, False, None),
+    ("core", "powerpc-linux-gnu", None, False, None),
+    ("core", "native", "MinSizeRel", False, None),
+    ("core", "arm-linux-gnueabihf", None, False, True),
+    ("core", "aarch64-linux-gnu", None, False, True),
+    ("core", "powerpc-linux-gnu", None, False, True),
+    ("pioneer-p3dx", None, None, False, None),
+    ("diffbot-can", None, None, False, None),
+    ("ppc-node", None, None, False, None),
+    ("desktop", None, None, False, None),
+    ("host", None, "Release", False, None),
+    ("core", "arm-linux-gnueabihf", None, True, None),
+    ("core", "aarch64-linux-gnu", None, True, None),
+    ("core", "powerpc-linux-gnu", None, True, None),
+    ("core", "arm-linux-gnueabihf", None, True, True),
+    ("diffbot-can", None, None, True, None),
+    ("ppc-node", None, None, True, None),
 ]
 
 ARCH_NAMES = {
@@ -59,14 +70,20 @@ def run(args, **kwargs):
     return subprocess.run(args, check=True, text=True, **kwargs)
 
 
-def build(board, toolchain, build_type, static, root, jobs):
+def build(board, toolchain, build_type, static, secure, root, jobs):
     """Configures and builds troupe-node; returns the build's board.json."""
     name = board if toolchain is None else f"{board}-{ARCH_NAMES.get(toolchain, toolchain)}"
+    if secure is not None:
+        name += "-secure" if secure else "-plain"
     if static:
         name += "-static"
     folder = os.path.join(root, name)
     args = ["cmake", "-S", SOURCE_DIR, "-B", folder, "-G", "Ninja", f"-DTROUPE_BOARD={board}",
             f"-DTROUPE_STATIC={'ON' if static else 'OFF'}"]
+    if secure is not None:
+        args.append(f"-DTROUPE_SECURE={'ON' if secure else 'OFF'}")
+    # The linker's map: which archive member each kept section came from.
+    args.append(f"-DCMAKE_EXE_LINKER_FLAGS=-Wl,-Map={os.path.join(folder, 'troupe-node.map')}")
     if toolchain is not None:
         args.append(f"-DTROUPE_TOOLCHAIN={toolchain}")
     if build_type is not None:
