@@ -120,8 +120,8 @@ SODIUM_GROUPS = [
     ("ChaCha20-Poly1305 (AEAD, stream, MAC)", r"chacha|poly1305|aead"),
     ("BLAKE2b (generichash)", r"blake2|generichash"),
     ("randombytes", r"randombytes"),
-    ("sodium_init and its implementation pickers (core, runtime CPU detection)", r"(^|-)(core|runtime)\.o"),
     ("Argon2 (pwhash, picked by sodium_init)", r"argon2|pwhash"),
+    ("sodium_init and its implementation pickers (core, runtime CPU detection)", r"(^|-)(core|runtime)\.o"),
     ("Salsa20 (stream, picked by sodium_init)", r"salsa"),
     ("utils (memzero, compare, allocation)", r"utils|verify|codecs"),
 ]

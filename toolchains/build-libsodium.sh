@@ -79,13 +79,20 @@ fi
 # Debian's optimisation level (-O2; the cipher and curve loops are hot in a
 # handshake); sections per function so the node's --gc-sections keeps only
 # what it calls.
-(cd "$src" && autoreconf -fi >/dev/null 2>&1) || { echo "$0: autoreconf failed in $src" >&2; exit 1; }
+(cd "$src" && autoreconf -fi >"$work/autoreconf.log" 2>&1) ||
+  { tail -30 "$work/autoreconf.log" >&2; echo "$0: autoreconf failed" >&2; exit 1; }
 (cd "$src" && CFLAGS="-O2 -ffunction-sections -fdata-sections" ./configure --quiet \
    --host="$triple" --prefix=/usr --libdir="/usr/lib/$triple" \
-   --disable-shared --enable-static --enable-minimal --disable-dependency-tracking --with-pic=no >/dev/null)
+   --disable-shared --enable-static --enable-minimal --disable-dependency-tracking --with-pic=no \
+   >"$work/configure.log" 2>&1) || { tail -30 "$work/configure.log" >&2; echo "$0: configure failed" >&2; exit 1; }
 jobs=$(nproc 2>/dev/null || echo 1)
 [ "$jobs" -gt 2 ] && jobs=2  # a shared machine's cores: two at most
-make -s -C "$src/src/libsodium" -j "$jobs" >/dev/null
-make -s -C "$src/src/libsodium" install DESTDIR="$dest" >/dev/null
+# libtool's chatter goes to a log, shown only when the build fails.
+if ! make -s -C "$src/src/libsodium" -j "$jobs" >"$work/make.log" 2>&1 ||
+   ! make -s -C "$src/src/libsodium" install DESTDIR="$dest" >>"$work/make.log" 2>&1; then
+  tail -30 "$work/make.log" >&2
+  echo "$0: building libsodium for $triple failed" >&2
+  exit 1
+fi
 rm -f "$dest/usr/lib/$triple/libsodium.la"
 echo "$0: libsodium 1.0.18 (Debian 12 source) built for $triple into $dest" >&2
