@@ -191,7 +191,18 @@ def secure_breakdown(facts, m, plain):
                           for n, s in sorted(groups[label], key=lambda x: -x[1]))
         rows.append((f"libsodium: {label}", size, names))
     if not members:
-        rows.append(("libsodium", 0, "a shared library (libsodium.so.23): none of it is in the node"))
+        # Linked against the shared library: none of it is in the node, and
+        # all of it is loaded beside it.
+        shared = [f for f in os.listdir(facts["sysroot_lib"]) if f.startswith("libsodium.so.")] \
+            if facts.get("sysroot_lib") and os.path.isdir(facts["sysroot_lib"]) else []
+        if shared:
+            path = os.path.join(facts["sysroot_lib"], sorted(shared)[-1])
+            lines = run([facts["size"], "-B", path], capture_output=True).stdout.splitlines()
+            text, data = (int(v) for v in lines[1].split()[:2])
+            rows.append(("libsodium (not in the node)", 0,
+                         f"{os.path.basename(path)}, loaded beside it: {text + data:,} bytes of text + data"))
+        else:
+            rows.append(("libsodium (not in the node)", 0, "a shared library"))
     if plain is not None:
         delta = m["text"] + m["data"] - plain["text"] - plain["data"]
         rows.append(("troupe's Noise code, node_secure.cc, what they take of libc/libstdc++",
