@@ -130,11 +130,7 @@ TEST_P(SecureBoard, UnknownKeyIsRefusedWhileTheKnownClientIsServed) {
 
 INSTANTIATE_TEST_SUITE_P(Targets, SecureBoard,
                          ::testing::Values("ppc-node-armhf", "ppc-node-arm64-static", "ppc-node-powerpc"),
-                         [](const auto& param_info) {
-                           std::string name = param_info.param;
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+                         [](const auto& param_info) { return test_name_of(param_info.param); });
 
 }  // namespace
 }  // namespace troupe::cross
