@@ -22,6 +22,12 @@
 #                          own static archives): the node then runs on any
 #                          Linux of its architecture, whatever its userland.
 #                          -DTROUPE_STATIC=ON|OFF overrides it.
+#   BOARD_SECURE           ON to build troupe-node with secure sessions
+#                          (Noise IK on libsodium, wire/noise): a config with
+#                          "key" and "clients" then serves only those clients.
+#                          The target's libsodium comes into the sysroot
+#                          (boards/target_packages.cmake). Host-tool boards
+#                          always have them. -DTROUPE_SECURE=ON|OFF overrides it.
 # The small boards share theirs in boards/small.cmake.
 
 # boards/toolchain.cmake checked that the board exists, before project().
@@ -37,6 +43,7 @@ set(BOARD_COMPILE_OPTIONS "")
 set(BOARD_LINK_OPTIONS "")
 set(BOARD_LTO OFF)
 set(BOARD_STATIC OFF)
+set(BOARD_SECURE OFF)
 include(${TROUPE_BOARD_DIR}/board.cmake)
 
 set(TROUPE_BOARD_DRIVERS ${BOARD_DRIVERS})
@@ -72,6 +79,15 @@ if(TROUPE_STATIC)
   # counter) cannot be static, and a static node loads none anyway.
   string(APPEND CMAKE_EXE_LINKER_FLAGS " -static")
   message(STATUS "Board ${TROUPE_BOARD}: programs linked statically (TROUPE_STATIC)")
+endif()
+# Secure sessions: the board's switch, or the command line's. The host-tool
+# boards build clients and tests of secure sessions, so their node has them
+# too.
+set(TROUPE_SECURE ${BOARD_SECURE} CACHE BOOL "Build troupe-node with secure sessions (default: the board's BOARD_SECURE)")
+if(TROUPE_BOARD_HOST_TOOLS)
+  set(TROUPE_NODE_SECURE ON)
+else()
+  set(TROUPE_NODE_SECURE ${TROUPE_SECURE})
 endif()
 if(BOARD_LTO AND NOT TROUPE_SANITIZE)
   include(CheckIPOSupported)

@@ -5,6 +5,11 @@
 # dependencies of the board's .deb. Drivers that need only libc and kernel
 # headers (kinematic, SocketCAN ones) have no entry.
 
+# Secure sessions (BOARD_SECURE) link libsodium: the archive for static
+# nodes is in the -dev package. powerpc has no Debian archive:
+# prepare-sysroot.sh builds these two from Debian's source instead.
+set(TROUPE_SECURE_PACKAGES libsodium-dev libsodium23)
+
 set(TROUPE_DRIVER_PACKAGES_p2os libserial-dev libserial1)
 set(TROUPE_DRIVER_PACKAGES_sicklms200 libserial-dev libserial1)
 # ros2 links Cyclone DDS; the runtime packages are the library and what it

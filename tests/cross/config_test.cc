@@ -58,11 +58,7 @@ TEST_P(BoardConfig, TroupeConfigCompileMakesWhatTheBoardBuildMakes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, BoardConfig, ::testing::Values("ppc-node-powerpc", "ppc-node-armhf"),
-                         [](const auto& param_info) {
-                           std::string name = param_info.param;
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+                         [](const auto& param_info) { return test_name_of(param_info.param); });
 
 }  // namespace
 }  // namespace troupe::cross

@@ -110,4 +110,9 @@ std::string make_temp_dir(const std::string& tag) {
   return made ? std::string(made) : std::string();
 }
 
+std::string test_name_of(std::string build_name) {
+  for (char& c : build_name) c = c == '-' ? '_' : c;
+  return build_name;
+}
+
 }  // namespace troupe::cross

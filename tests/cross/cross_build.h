@@ -43,4 +43,7 @@ std::string make_temp_dir(const std::string& tag);
 
 std::string read_text(const std::string& path);
 
+/// A cross build's name as a gtest parameter name: "core-armhf" -> "core_armhf".
+std::string test_name_of(std::string build_name);
+
 }  // namespace troupe::cross

@@ -169,15 +169,12 @@ const std::map<std::string, std::string> kPackageOf = {
     {"libc.so.6", "libc6"},
     {"libm.so.6", "libc6"},
     {"libstdc++.so.6", "libstdc++6"},
-    {"libgcc_s.so.1", "libgcc-s1"}};
+    {"libgcc_s.so.1", "libgcc-s1"},
+    // Secure boards (BOARD_SECURE) linked against Debian's shared libsodium.
+    {"libsodium.so.23", "libsodium23"}};
 
-// "core-armhf" -> "core_armhf": a test name.
 std::string build_test_name(const ::testing::TestParamInfo<const char*>& param_info) {
-  std::string name = param_info.param;
-  for (char& c : name) {
-    if (c == '-') c = '_';
-  }
-  return name;
+  return test_name_of(param_info.param);
 }
 
 class DynamicPackage : public ::testing::TestWithParam<const char*> {

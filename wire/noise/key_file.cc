@@ -6,11 +6,12 @@
 
 #include <sodium.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <string_view>
 
 namespace troupe::wire::noise {
 namespace {
@@ -32,13 +33,63 @@ bool create_new(const std::string& path, const std::string& text, mode_t mode, s
   return ok;
 }
 
-bool read_line(const std::string& path, std::string& line, std::string& error) {
-  std::ifstream in(path);
-  if (!in) {
+// Key files are one line and a known-nodes file a few; larger is not one.
+constexpr size_t kMaxFileBytes = 1 << 20;
+
+// The whole of `path` into `text`. POSIX reads, not <fstream>: iostreams
+// bring libstdc++'s locale machinery, about 250 KB of a statically linked
+// board node (boards/README.md, "Secure sessions on the boards").
+bool read_file(const std::string& path, std::string& text, std::string& error) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
     error = path + ": cannot open: " + std::strerror(errno);
     return false;
   }
-  std::getline(in, line);
+  char block[512];
+  ssize_t n = 0;
+  while ((n = ::read(fd, block, sizeof block)) > 0 && text.size() <= kMaxFileBytes) {
+    text.append(block, static_cast<size_t>(n));
+  }
+  const int read_errno = errno;
+  sodium_memzero(block, sizeof block);
+  ::close(fd);
+  if (n < 0) {
+    error = path + ": cannot read: " + std::strerror(read_errno);
+    return false;
+  }
+  if (text.size() > kMaxFileBytes) {
+    error = path + ": larger than " + std::to_string(kMaxFileBytes) + " bytes: not a key file";
+    return false;
+  }
+  return true;
+}
+
+// The line of `text` from `at` (without its newline); `at` moves past it.
+std::string_view next_line(std::string_view text, size_t& at) {
+  const size_t end = std::min(text.find('\n', at), text.size());
+  std::string_view line = text.substr(at, end - at);
+  at = end + 1;
+  return line;
+}
+
+// The first two words of `line` (separated by blanks), as `>>` reads them.
+void first_words(std::string_view line, std::string_view& first, std::string_view& second) {
+  constexpr std::string_view kBlanks = " \t\r\v\f";
+  std::string_view* words[] = {&first, &second};
+  size_t at = 0;
+  for (std::string_view* word : words) {
+    const size_t start = std::min(line.find_first_not_of(kBlanks, at), line.size());
+    at = std::min(line.find_first_of(kBlanks, start), line.size());
+    *word = line.substr(start, at - start);
+  }
+}
+
+// The first two words of the first line of `path`.
+bool read_first_words(const std::string& path, std::string& text, std::string_view& first,
+                      std::string_view& second, std::string& error) {
+  if (!read_file(path, text, error)) return false;
+  size_t at = 0;
+  first_words(next_line(text, at), first, second);
   return true;
 }
 
@@ -88,30 +139,23 @@ bool read_secret_key(const std::string& path, KeyPair& out, std::string& error) 
     error = path + ": permissions " + mode + " let others read this secret key; chmod 600 " + path;
     return false;
   }
-  std::string line;
-  if (!read_line(path, line, error)) return false;
-  std::istringstream words(line);
-  std::string tag, hex;
-  words >> tag >> hex;
+  std::string text;
+  std::string_view tag, hex;
+  if (!read_first_words(path, text, tag, hex, error)) return false;
   Key secret;
-  if (tag != kSecretTag || !parse_key_hex(hex, secret)) {
-    error = path + ": not a secret key file (expected \"" + std::string(kSecretTag) + " <64 hex digits>\")";
-    return false;
-  }
-  out = keypair_from_secret(secret);
+  const bool ok = tag == kSecretTag && parse_key_hex(hex, secret);
+  if (ok) out = keypair_from_secret(secret);
   sodium_memzero(secret.data(), secret.size());
-  sodium_memzero(line.data(), line.size());
-  sodium_memzero(hex.data(), hex.size());
-  return true;
+  sodium_memzero(text.data(), text.size());
+  if (!ok) error = path + ": not a secret key file (expected \"" + std::string(kSecretTag) + " <64 hex digits>\")";
+  return ok;
 }
 
 bool read_public_key(const std::string& path_or_hex, Key& out, std::string& error) {
   if (parse_key_hex(path_or_hex, out)) return true;
-  std::string line;
-  if (!read_line(path_or_hex, line, error)) return false;
-  std::istringstream words(line);
-  std::string tag, hex;
-  words >> tag >> hex;
+  std::string text;
+  std::string_view tag, hex;
+  if (!read_first_words(path_or_hex, text, tag, hex, error)) return false;
   if (tag != kPublicTag || !parse_key_hex(hex, out)) {
     error = path_or_hex + ": not a public key file (expected \"" + std::string(kPublicTag) + " <64 hex digits> NAME\")";
     return false;
@@ -132,17 +176,16 @@ std::string known_nodes_path() {
 bool find_known_node(const std::string& path, const std::string& host_port, Key& out, std::string& error) {
   const std::string how = "add the line \"" + host_port + " <the node's key: 64 hex digits>\" to " + path +
                           ", or name the key with --node-key";
-  std::ifstream in(path);
-  if (!in) {
+  std::string text, ignored;
+  if (!read_file(path, text, ignored)) {
     error = "no key known for " + host_port + " (no " + path + "): " + how;
     return false;
   }
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string node, hex;
-    if (!(words >> node) || node.front() == '#' || node != host_port) continue;
-    words >> hex;
+  size_t at = 0;
+  for (int number = 1; at < text.size(); ++number) {
+    std::string_view node, hex;
+    first_words(next_line(text, at), node, hex);
+    if (node.empty() || node.front() == '#' || node != host_port) continue;
     if (!parse_key_hex(hex, out)) {
       error = path + ":" + std::to_string(number) + ": the key of " + host_port + " is not 64 hex digits";
       return false;
