@@ -30,9 +30,16 @@ triple=$1
 dest=$2
 
 pool=http://deb.debian.org/debian/pool/main/libs/libsodium
+# The pool keeps only the versions Debian still ships: once a later stable
+# update replaces this one, its files move to snapshot.debian.org, which
+# serves every file Debian ever published by its SHA-1. The SHA-256 is
+# checked wherever a file comes from.
+snapshot=http://snapshot.debian.org/file
 orig=libsodium_1.0.18.orig.tar.gz
+orig_sha1=cd8a76b79aeb077e8d3eea478ea6241972593dfd
 orig_sha256=d59323c6b712a1519a5daf710b68f5e7fde57040845ffec53850911f10a5d4f4
 debian=libsodium_1.0.18-1+deb12u1.debian.tar.xz
+debian_sha1=8f6747a2f806fe6f534471283475750765ab2cb8
 debian_sha256=f410474e46346b06b162defa05b1be26906aeed6cf309e3d4ebe30b4d1350733
 
 if ! command -v "$triple-gcc" >/dev/null 2>&1; then
@@ -56,10 +63,12 @@ fi
 work=$(mktemp -d)
 chmod a+rwx "$work"  # apt-helper downloads as user _apt when it can
 trap 'rm -rf "$work"' EXIT
-for pair in "$orig $orig_sha256" "$debian $debian_sha256"; do
-  set -- $pair
-  if ! "$helper" download-file "$pool/$1" "$work/$1" "SHA256:$2" >/dev/null; then
-    echo "$0: could not download $pool/$1 with SHA-256 $2 (see above)." >&2
+for file in "$orig $orig_sha1 $orig_sha256" "$debian $debian_sha1 $debian_sha256"; do
+  set -- $file
+  if ! "$helper" download-file "$pool/$1" "$work/$1" "SHA256:$3" >/dev/null 2>"$work/download.log" &&
+     ! "$helper" download-file "$snapshot/$2" "$work/$1" "SHA256:$3" >/dev/null 2>>"$work/download.log"; then
+    cat "$work/download.log" >&2
+    echo "$0: could not download $1 with SHA-256 $3 from $pool or $snapshot." >&2
     echo "  Check that deb.debian.org is reachable (apt-get update works), or build the board" >&2
     echo "  without secure sessions: -DTROUPE_SECURE=OFF." >&2
     exit 1

@@ -15,3 +15,6 @@ set(BOARD_DRIVERS
   ros2
 )
 set(BOARD_NODE_CONFIGS nodes/desktop.json nodes/ros2.json)
+# Its node serves the robot's devices on to other machines: secure sessions,
+# as on the robot (the passthrough's link to the robot has them anyway).
+set(BOARD_SECURE ON)
