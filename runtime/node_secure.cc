@@ -1,13 +1,23 @@
 #include "runtime/node_secure.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
-#include "runtime/log.h"
+#include "flatbuffers/reflection_generated.h"
+#include "runtime/config_json.h"
+#include "runtime/node_config.h"
 #include "wire/noise/key_file.h"
 #include "wire/noise/noise_transport.h"
+
+// The node config schema (flatc --schema -b), embedded at build time.
+extern const unsigned char troupe_config_bfbs[];
+extern const unsigned troupe_config_bfbs_size;
 
 namespace troupe {
 namespace {
@@ -40,24 +50,25 @@ bool client_rights(const config::TrustedClient& entry, std::shared_ptr<const Rig
 
 }  // namespace
 
-bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::string& error) {
-  const config::NodeConfig& root = *cfg.root;
+bool secure_sessions(const config::NodeConfig& root, const std::string& config_path, SecureSessions& out,
+                     std::string& error) {
+  out = SecureSessions{};
   const size_t listed = root.clients() ? root.clients()->size() : 0;
   if (root.key() == nullptr) {
     if (listed > 0) {
-      error = cfg.path + ": \"clients\" without \"key\": a node accepts clients by key only with a key of its own";
+      error = config_path + ": \"clients\" without \"key\": a node accepts clients by key only with a key of its own";
       return false;
     }
     return true;
   }
   noise::KeyPair identity;
   std::string why;
-  if (!noise::read_secret_key(config_relative(cfg.path, root.key()->str()), identity, why)) {
-    error = cfg.path + ": key: " + why;
+  if (!noise::read_secret_key(config_relative(config_path, root.key()->str()), identity, why)) {
+    error = config_path + ": key: " + why;
     return false;
   }
   if (listed == 0) {
-    error = cfg.path + ": \"key\" without \"clients\": a secure node would refuse every client; list their public "
+    error = config_path + ": \"key\" without \"clients\": a secure node would refuse every client; list their public "
                        "keys (troupe keygen NAME writes NAME.pub)";
     return false;
   }
@@ -66,11 +77,11 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
   auto rights = std::make_shared<std::unordered_map<std::string, std::shared_ptr<const Rights>>>();
   for (size_t i = 0; i < listed; ++i) {
     const config::TrustedClient& entry = *root.clients()->Get(static_cast<flatbuffers::uoffset_t>(i));
-    const std::string where = cfg.path + ": clients[" + std::to_string(i) + "]";
+    const std::string where = config_path + ": clients[" + std::to_string(i) + "]";
     noise::Key key;
     const std::string key_text = entry.key()->str();  // required: the verifier saw it
     if (!noise::parse_key_hex(key_text, key) &&
-        !noise::read_public_key(config_relative(cfg.path, key_text), key, why)) {
+        !noise::read_public_key(config_relative(config_path, key_text), key, why)) {
       error = where + ": " + why;
       return false;
     }
@@ -82,7 +93,8 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     clients.push_back(key);
     (*rights)[noise::key_hex(key)] = granted;
   }
-  options.make_transport = [identity, clients]() -> std::unique_ptr<wire::Transport> {
+  out.key_hex = noise::key_hex(identity.public_key);
+  out.make_transport = [identity, clients]() -> std::unique_ptr<wire::Transport> {
     noise::SecureOptions o;
     o.role = noise::Role::Responder;
     o.identity = identity;
@@ -93,11 +105,74 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     };
     return std::make_unique<noise::NoiseTransport>(std::move(o));
   };
-  options.rights_of = [rights](const std::string& peer) -> std::shared_ptr<const Rights> {
+  out.rights_of = [rights](const std::string& peer) -> std::shared_ptr<const Rights> {
     auto it = rights->find(peer);
     return it == rights->end() ? std::make_shared<const PatternRights>() : it->second;  // unknown: nothing
   };
   return true;
 }
+
+bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::string& error) {
+  SecureSessions sessions;
+  if (!secure_sessions(*cfg.root, cfg.path, sessions, error)) return false;
+  if (sessions.on()) sessions.apply(options);
+  return true;
+}
+
+bool load_secure_sessions(const std::string& path, SecureSessions& out, std::string& error) {
+  std::vector<uint8_t> bytes;
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) {
+    error = path + ": cannot open: " + std::strerror(errno);
+    return false;
+  }
+  uint8_t chunk[4096];
+  for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;) bytes.insert(bytes.end(), chunk, chunk + n);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) {
+    error = path + ": read error";
+    return false;
+  }
+  // flatc's binary carries the schema's identifier after the root offset;
+  // compared by hand (GCC 12 takes BufferHasIdentifier for an overread).
+  const bool binary = bytes.size() >= 8 && std::memcmp(bytes.data() + 4, config::NodeConfigIdentifier(), 4) == 0;
+  if (!binary) {
+    std::vector<uint8_t> parsed;
+    if (!parse_node_config_json(troupe_config_bfbs, troupe_config_bfbs_size, "host", "none",
+                                std::string(bytes.begin(), bytes.end()), path, parsed, error)) {
+      return false;
+    }
+    bytes = std::move(parsed);
+  }
+  flatbuffers::Verifier verifier(bytes.data(), bytes.size());
+  if (!config::VerifyNodeConfigBuffer(verifier)) {
+    error = path + ": not a valid node config (the FlatBuffers verifier refused it)";
+    return false;
+  }
+  // Anything else a node config sets would be ignored here: say so rather
+  // than serve on another port or address than the file seems to ask.
+  const flatbuffers::Table* table = flatbuffers::GetRoot<flatbuffers::Table>(bytes.data());
+  for (const reflection::Field* field : *reflection::GetSchema(troupe_config_bfbs)->root_table()->fields()) {
+    const std::string name = field->name()->str();
+    if (name == "key" || name == "clients" || !table->CheckField(field->offset())) continue;
+    error = path + ": \"" + name +
+            "\": this file holds only \"key\" and \"clients\"; the rest is set on the command line";
+    return false;
+  }
+  const config::NodeConfig& root = *config::GetNodeConfig(bytes.data());
+  if (root.key() == nullptr) {
+    error = path + ": no \"key\": secure sessions need this server's secret key (troupe keygen NAME writes one)";
+    return false;
+  }
+  return secure_sessions(root, path, out, error);
+}
+
+const char kSecureFlagHelp[] =
+    "serve secure sessions only (wire/README.md, \"Secure sessions\"):\n"
+    "FILE is JSON with this server's secret key and the clients it\n"
+    "accepts, with their rights, written as in a node config, so a\n"
+    "node's block is copied as it is: {\"key\": \"sim\", \"clients\":\n"
+    "[{\"key\": \"laptop.pub\", \"read\": [\"*\"]}]} (paths relative to FILE)";
 
 }  // namespace troupe
