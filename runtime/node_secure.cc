@@ -56,7 +56,8 @@ bool secure_sessions(const config::NodeConfig& root, const std::string& config_p
   const size_t listed = root.clients() ? root.clients()->size() : 0;
   if (root.key() == nullptr) {
     if (listed > 0) {
-      error = config_path + ": \"clients\" without \"key\": a node accepts clients by key only with a key of its own";
+      error = config_path +
+              ": \"clients\" without \"key\": a node accepts clients by key only with a key of its own";
       return false;
     }
     return true;
@@ -68,8 +69,9 @@ bool secure_sessions(const config::NodeConfig& root, const std::string& config_p
     return false;
   }
   if (listed == 0) {
-    error = config_path + ": \"key\" without \"clients\": a secure node would refuse every client; list their public "
-                       "keys (troupe keygen NAME writes NAME.pub)";
+    error = config_path +
+            ": \"key\" without \"clients\": a secure node would refuse every client; list their public "
+            "keys (troupe keygen NAME writes NAME.pub)";
     return false;
   }
   std::vector<noise::Key> clients;
@@ -127,7 +129,8 @@ bool load_secure_sessions(const std::string& path, SecureSessions& out, std::str
     return false;
   }
   uint8_t chunk[4096];
-  for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;) bytes.insert(bytes.end(), chunk, chunk + n);
+  for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;)
+    bytes.insert(bytes.end(), chunk, chunk + n);
   const bool failed = std::ferror(f) != 0;
   std::fclose(f);
   if (failed) {
@@ -136,7 +139,8 @@ bool load_secure_sessions(const std::string& path, SecureSessions& out, std::str
   }
   // flatc's binary carries the schema's identifier after the root offset;
   // compared by hand (GCC 12 takes BufferHasIdentifier for an overread).
-  const bool binary = bytes.size() >= 8 && std::memcmp(bytes.data() + 4, config::NodeConfigIdentifier(), 4) == 0;
+  const bool binary =
+      bytes.size() >= 8 && std::memcmp(bytes.data() + 4, config::NodeConfigIdentifier(), 4) == 0;
   if (!binary) {
     std::vector<uint8_t> parsed;
     if (!parse_node_config_json(troupe_config_bfbs, troupe_config_bfbs_size, "host", "none",
@@ -162,7 +166,8 @@ bool load_secure_sessions(const std::string& path, SecureSessions& out, std::str
   }
   const config::NodeConfig& root = *config::GetNodeConfig(bytes.data());
   if (root.key() == nullptr) {
-    error = path + ": no \"key\": secure sessions need this server's secret key (troupe keygen NAME writes one)";
+    error =
+        path + ": no \"key\": secure sessions need this server's secret key (troupe keygen NAME writes one)";
     return false;
   }
   return secure_sessions(root, path, out, error);

@@ -143,8 +143,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   sessions.apply(node_options);
-  if (!info && !troupe::may_serve("troupe play", node_options.listen, node_options.port, sessions.on(), insecure,
-                                  error)) {
+  if (!info && !troupe::may_serve("troupe play", node_options.listen, node_options.port, sessions.on(),
+                                  insecure, error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 2;
   }

@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   troupe::sim::SimOptions options;
   if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
   std::string error;
-  if (!options.secure_file.empty() && !troupe::load_secure_sessions(options.secure_file, options.secure, error)) {
+  if (!options.secure_file.empty() &&
+      !troupe::load_secure_sessions(options.secure_file, options.secure, error)) {
     std::fprintf(stderr, "troupe-sim: --secure %s\n", error.c_str());
     return 2;
   }

@@ -142,8 +142,9 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
     return cli::usage_error(*app, "--secure with --no-serve: --no-serve opens no sockets");
   }
   if (secure->count() > 0 && p2os_tcp->count() > 0 && !loopback_only(out.listen)) {
-    return cli::usage_error(*app, "--p2os-tcp beyond loopback with --secure: P2OS has no secure sessions, "
-                                  "so anyone reaching its ports would drive the robots");
+    return cli::usage_error(*app,
+                            "--p2os-tcp beyond loopback with --secure: P2OS has no secure sessions, "
+                            "so anyone reaching its ports would drive the robots");
   }
   if (p2os_tcp->count() > 0 && !out.serve) {
     return cli::usage_error(*app, "--p2os-tcp with --no-serve: --no-serve opens no sockets");

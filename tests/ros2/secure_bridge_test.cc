@@ -22,15 +22,13 @@ class SecureBridgeTest : public BridgeTest {
     ASSERT_FALSE(HasFatalFailure());
     std::string error;
     ASSERT_TRUE(robot_.make_keys({"laptop"}, error)) << error;
-    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])",
-                             R"([ { "driver_type": "kinematic", "driver": { "rate_hz": 20 },
-                                    "provides": ["position2d:0"] } ])",
-                             error))
-        << error;
-    std::vector<std::string> argv = {kBin + "/troupe-ros2", robot_.host(), "--domain", std::to_string(domain_.id())};
+    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])", kKinematicBase, error)) << error;
+    std::vector<std::string> argv = {kBin + "/troupe-ros2", robot_.host(), "--domain",
+                                     std::to_string(domain_.id())};
     for (const std::string& a : secure_args(robot_, "laptop", "node.pub")) argv.push_back(a);
     ASSERT_TRUE(bridge_.start_logged(argv, dir_ + "/bridge.log", error)) << error;
-    ASSERT_TRUE(bridge_.wait_for("ros2 ready", true, kWaitMs)) << "troupe-ros2 did not start: " << bridge_.out();
+    ASSERT_TRUE(bridge_.wait_for("ros2 ready", true, kWaitMs))
+        << "troupe-ros2 did not start: " << bridge_.out();
   }
   void TearDown() override {
     if (HasFailure()) std::fprintf(stderr, "---- troupe-node\n%s", robot_.node().err().c_str());

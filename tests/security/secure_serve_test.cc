@@ -53,8 +53,8 @@ class SecureServe : public ::testing::Test {
   }
   // troupe-sim on 0.0.0.0 with `more`; true once it prints its port.
   void start_sim(const std::vector<std::string>& more) {
-    std::vector<std::string> argv = {kBin + "troupe-sim", keys_.path("room.world"), "--port", "0", "--no-view",
-                                     "--listen", "0.0.0.0"};
+    std::vector<std::string> argv = {
+        kBin + "troupe-sim", keys_.path("room.world"), "--port", "0", "--no-view", "--listen", "0.0.0.0"};
     argv.insert(argv.end(), more.begin(), more.end());
     std::string error;
     ASSERT_TRUE(sim_.start(argv, keys_.dir(), "sim", error)) << error;
@@ -79,7 +79,8 @@ class SecureServe : public ::testing::Test {
 
 TEST_F(SecureServe, SimServesAKnownClientBeyondLoopbackWhichReadsAndDrivesARobot) {
   start_sim({"--secure", keys_.path("keys.json")});
-  EXPECT_TRUE(sim_.wait_for("secure sessions only; this simulator's key is " + keys_.node_key_hex(), true, kRunMs))
+  EXPECT_TRUE(
+      sim_.wait_for("secure sessions only; this simulator's key is " + keys_.node_key_hex(), true, kRunMs))
       << sim_.err();
   EXPECT_EQ(sim_.err().find("insecure"), std::string::npos) << sim_.err();
 
@@ -159,9 +160,9 @@ TEST_F(SecureServe, ABadSecureFileStopsTheSimAtStartNamingTheMistake) {
     EXPECT_NE(r.err.find("troupe-sim: --secure " + keys_.path("bad.json")), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(c.says), std::string::npos) << c.json << "\n" << r.err;
   }
-  ProgramResult both = run_to_end({kBin + "troupe-sim", keys_.path("room.world"), "--secure",
-                                   keys_.path("keys.json"), "--insecure"},
-                                  kRunMs);
+  ProgramResult both = run_to_end(
+      {kBin + "troupe-sim", keys_.path("room.world"), "--secure", keys_.path("keys.json"), "--insecure"},
+      kRunMs);
   EXPECT_EQ(both.status, 2);
   EXPECT_NE(both.err.find("--secure excludes --insecure"), std::string::npos) << both.err;
 }
@@ -176,17 +177,19 @@ TEST_F(SecureServe, PlayServesARecordedLogToKnownKeysOnly) {
   ASSERT_EQ(rec.status, 0) << rec.err;
   sim_.kill_hard();
 
-  ProgramResult plain = run_to_end({kBin + "troupe", "play", log, "--listen", "0.0.0.0", "--port", "0"}, kRunMs);
+  ProgramResult plain =
+      run_to_end({kBin + "troupe", "play", log, "--listen", "0.0.0.0", "--port", "0"}, kRunMs);
   EXPECT_EQ(plain.status, 2);
-  EXPECT_NE(plain.err.find("troupe play: serving 0.0.0.0:0 in plain TCP would let any machine"), std::string::npos)
+  EXPECT_NE(plain.err.find("troupe play: serving 0.0.0.0:0 in plain TCP would let any machine"),
+            std::string::npos)
       << plain.err;
 
   const uint16_t port = free_port();
   host_ = "127.0.0.1:" + std::to_string(port);
   std::string error;
   // --wait holds the samples until the device has a reader.
-  ASSERT_TRUE(player_.start({kBin + "troupe", "play", log, "--listen", "0.0.0.0", "--port", std::to_string(port),
-                             "--wait", "--secure", keys_.path("keys.json")},
+  ASSERT_TRUE(player_.start({kBin + "troupe", "play", log, "--listen", "0.0.0.0", "--port",
+                             std::to_string(port), "--wait", "--secure", keys_.path("keys.json")},
                             keys_.dir(), "player", error))
       << error;
   ASSERT_TRUE(wait_for_listener(port, 10)) << player_.err();

@@ -22,11 +22,7 @@ class SecureBridge : public ::testing::Test {
   void SetUp() override {
     std::string error;
     ASSERT_TRUE(robot_.make_keys({"laptop"}, error)) << error;
-    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])",
-                             R"([ { "driver_type": "kinematic", "driver": { "rate_hz": 20 },
-                                    "provides": ["position2d:0"] } ])",
-                             error))
-        << error;
+    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])", testing::kKinematicBase, error)) << error;
   }
   // The viewer on a free port, bridged to the robot as laptop holding `node_key`.
   void start_viewer(const std::string& node_key) {
@@ -108,12 +104,13 @@ TEST_F(SecureBridge, ASecureSimulatorsViewerConnectsWithItsViewIdentity) {
   const std::string bin = std::string(TROUPE_BINARY_DIR) + "/bin/troupe-sim";
   std::ofstream(robot_.path("keys.json")) << R"({ "key": "node", "clients": [ { "key": "laptop.pub" } ] })";
   std::ofstream(robot_.path("one.world")) << "define bot position ( size [0.4 0.3] )\nbot ( name \"r0\" )\n";
-  const std::vector<std::string> common = {bin, robot_.path("one.world"), "--port", "0", "--view", "0",
+  const std::vector<std::string> common = {bin,        robot_.path("one.world"), "--port", "0", "--view", "0",
                                            "--secure", robot_.path("keys.json")};
 
   testing::ProgramResult lonely = testing::run_to_end(common, 30'000);
   EXPECT_EQ(lonely.status, 1);
-  EXPECT_NE(lonely.err.find("--view with --secure needs --view-identity FILE"), std::string::npos) << lonely.err;
+  EXPECT_NE(lonely.err.find("--view with --secure needs --view-identity FILE"), std::string::npos)
+      << lonely.err;
 
   std::vector<std::string> argv = common;
   argv.insert(argv.end(), {"--view-identity", robot_.path("laptop")});

@@ -109,10 +109,11 @@ bool connect_reader(Reader& r, uint16_t port, bool secure) {
   wire::MessageWriter w;
   auto& b = w.start();
   auto open = wire::CreateOpen(b, wire::Access::Read, wire::Delivery::Push);
-  const auto frame = w.finish(wire::make_header(kLaser, wire::Kind::Open, 0, 1, 0), wire::Body::Open, open.Union());
+  const auto frame =
+      w.finish(wire::make_header(kLaser, wire::Kind::Open, 0, 1, 0), wire::Body::Open, open.Union());
   if (!secure) return bench::write_all(r.fd, frame);
-  r.session = std::make_unique<noise::NoiseTransport>(
-      noise::SecureOptions{noise::Role::Initiator, noise::generate_keypair(), g_node_key.public_key, nullptr});
+  r.session = std::make_unique<noise::NoiseTransport>(noise::SecureOptions{
+      noise::Role::Initiator, noise::generate_keypair(), g_node_key.public_key, nullptr});
   std::vector<uint8_t> out;
   std::string error;
   r.session->begin(out);
@@ -236,11 +237,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   g_node_key = noise::generate_keypair();
-  printf("One ranger device publishing 181-beam scans at %d Hz, %.0f s per run, median of %d runs\n\n", g_rate_hz,
-         seconds, repeats);
-  printf("| session | clients | published msg/s | delivered msg/s (all clients) | delivered MB/s | node CPU %% | "
-         "node CPU us / delivered msg | delivered / (published x clients) |\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf("One ranger device publishing 181-beam scans at %d Hz, %.0f s per run, median of %d runs\n\n",
+         g_rate_hz, seconds, repeats);
+  printf(
+      "| session | clients | published msg/s | delivered msg/s (all clients) | delivered MB/s | node CPU %% "
+      "| "
+      "node CPU us / delivered msg | delivered / (published x clients) |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|\n");
   struct Ratio {
     int clients;
     double plain, secure;
@@ -262,7 +265,9 @@ int main(int argc, char** argv) {
     }
     ratios.push_back({clients, median_run(plain).cpu_us_per_msg, median_run(secure).cpu_us_per_msg});
   }
-  printf("\n| clients | node CPU us / delivered msg, plain | secure | secure / plain |\n|---:|---:|---:|---:|\n");
+  printf(
+      "\n| clients | node CPU us / delivered msg, plain | secure | secure / plain "
+      "|\n|---:|---:|---:|---:|\n");
   for (const Ratio& r : ratios) {
     printf("| %d | %.2f | %.2f | %.2f |\n", r.clients, r.plain, r.secure, r.secure / r.plain);
   }
