@@ -2,7 +2,7 @@
 // and "clients" turned into the transport each connection runs through
 // (wire/noise) and the rights of each client's key. troupe-node reads them
 // from its config; troupe-sim and troupe play from a file of the same schema
-// holding only those two (--secure FILE), so every server takes keys and
+// holding only those two (secure_file.h), so every server takes keys and
 // rights the same way and refuses the same mistakes with the same words.
 // Built where libsodium is (the host; a board's sysroot when it carries it).
 #pragma once
@@ -46,15 +46,5 @@ bool secure_sessions(const config::NodeConfig& root, const std::string& config_p
 
 /// secure_sessions() of troupe-node's config, set into `options`.
 bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::string& error);
-
-/// The --secure FILE of troupe-sim and troupe play: JSON (or its flatc
-/// binary) of the node config schema holding "key" and "clients" and
-/// nothing else, since those programs take their address, port and devices
-/// from their own command line. False with `error` naming the file when it
-/// cannot be read, has no key, or sets anything else.
-bool load_secure_sessions(const std::string& path, SecureSessions& out, std::string& error);
-
-/// The help text of --secure, the same in every program that takes it.
-extern const char kSecureFlagHelp[];
 
 }  // namespace troupe

@@ -12,7 +12,7 @@
 #include "runtime/exposure.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
-#include "runtime/node_secure.h"
+#include "runtime/secure_file.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
 #include "wire/cli/args.h"

@@ -9,7 +9,7 @@
 #include "host-sim/viewer/view_server.h"
 #include "runtime/exposure.h"
 #include "runtime/log.h"
-#include "runtime/node_secure.h"
+#include "runtime/secure_file.h"
 #include "runtime/stop_signals.h"
 
 int main(int argc, char** argv) {

@@ -1,6 +1,7 @@
 #include "host-sim/troupe_sim/options.h"
 
 #include "runtime/exposure.h"
+#include "runtime/secure_file.h"
 #include "wire/cli/args.h"
 
 namespace troupe::sim {
