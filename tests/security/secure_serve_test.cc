@@ -51,10 +51,12 @@ class SecureServe : public ::testing::Test {
       if (p->running()) p->kill_hard();
     }
   }
-  // troupe-sim on 0.0.0.0 with `more`; true once it prints its port.
-  void start_sim(const std::vector<std::string>& more) {
-    std::vector<std::string> argv = {
-        kBin + "troupe-sim", keys_.path("room.world"), "--port", "0", "--no-view", "--listen", "0.0.0.0"};
+  // troupe-sim on 0.0.0.0 with `more`, `world` the room unless named;
+  // true once it prints its port.
+  void start_sim(const std::vector<std::string>& more, std::string world = "") {
+    if (world.empty()) world = keys_.path("room.world");
+    std::vector<std::string> argv = {kBin + "troupe-sim", world,      "--port", "0",
+                                     "--no-view",         "--listen", "0.0.0.0"};
     argv.insert(argv.end(), more.begin(), more.end());
     std::string error;
     ASSERT_TRUE(sim_.start(argv, keys_.dir(), "sim", error)) << error;
@@ -134,6 +136,20 @@ TEST_F(SecureServe, SimAnswersAReadOnlyClientsCommandWithForbidden) {
   ProgramResult pose = troupe({"echo", host_, "r0/position2d:0", "--count", "5"}, "laptop");
   EXPECT_NE(pose.out.rfind("pose=0.000,0.000,0.000 vel=0.000,0.000,0.000"), std::string::npos) << pose.out;
   EXPECT_EQ(pose.out.find("vel=0.500"), std::string::npos) << pose.out;
+}
+
+// A RoboCup match is served by another loop (host-sim/robocup/serve); its
+// node runs the same sessions.
+TEST_F(SecureServe, ARoboCupMatchServesKnownKeysOnly) {
+  start_sim({"--secure", keys_.path("keys.json")},
+            std::string(TROUPE_SOURCE_DIR) + "/examples/robocup/match.world");
+  ProgramResult ls = troupe({"ls", host_}, "laptop");
+  ASSERT_EQ(ls.status, 0) << ls.err;
+  EXPECT_NE(ls.out.find("blue0/position2d:0"), std::string::npos) << ls.out;
+  ProgramResult stranger = troupe({"ls", host_}, "stranger");
+  EXPECT_NE(stranger.status, 0);
+  EXPECT_EQ(stranger.out, "");
+  EXPECT_TRUE(sim_.wait_for("is not among the node's clients", true, kRunMs)) << sim_.err();
 }
 
 TEST_F(SecureServe, ABadSecureFileStopsTheSimAtStartNamingTheMistake) {
