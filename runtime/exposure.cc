@@ -27,7 +27,8 @@ bool may_serve(const std::string& program, std::string_view listen, uint16_t por
   if (secure || insecure || loopback_only(listen)) return true;
   error = program + ": serving " + std::string(listen) + ":" + std::to_string(port) +
           " in plain TCP would let any machine that reaches it read and command every device. Give it a key "
-          "and its clients (troupe keygen; wire/README.md, \"Secure sessions\"), listen on localhost, or say "
+          "and its clients (troupe keygen; a node config's \"key\" and \"clients\", --secure FILE for "
+          "troupe-sim and troupe play; wire/README.md, \"Secure sessions\"), listen on localhost, or say "
           "--insecure";
   return false;
 }

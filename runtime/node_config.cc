@@ -124,12 +124,6 @@ Node::Options node_options(const config::NodeConfig& cfg) {
   return o;
 }
 
-std::string config_relative(const std::string& config_path, const std::string& path) {
-  if (path.empty() || path.front() == '/') return path;
-  const size_t slash = config_path.rfind('/');
-  return slash == std::string::npos ? path : config_path.substr(0, slash + 1) + path;
-}
-
 bool build_node(Node& node, const LoadedConfig& cfg, std::string& error, SetupFailure* failure) {
   const auto* instances = cfg.root->drivers();
   if (instances == nullptr || instances->size() == 0) {

@@ -5,7 +5,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "runtime/log.h"
+#include "runtime/node_config.h"
 #include "wire/noise/key_file.h"
 #include "wire/noise/noise_transport.h"
 
@@ -40,25 +40,28 @@ bool client_rights(const config::TrustedClient& entry, std::shared_ptr<const Rig
 
 }  // namespace
 
-bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::string& error) {
-  const config::NodeConfig& root = *cfg.root;
+bool secure_sessions(const config::NodeConfig& root, const std::string& config_path, SecureSessions& out,
+                     std::string& error) {
+  out = SecureSessions{};
   const size_t listed = root.clients() ? root.clients()->size() : 0;
   if (root.key() == nullptr) {
     if (listed > 0) {
-      error = cfg.path + ": \"clients\" without \"key\": a node accepts clients by key only with a key of its own";
+      error = config_path +
+              ": \"clients\" without \"key\": a node accepts clients by key only with a key of its own";
       return false;
     }
     return true;
   }
   noise::KeyPair identity;
   std::string why;
-  if (!noise::read_secret_key(config_relative(cfg.path, root.key()->str()), identity, why)) {
-    error = cfg.path + ": key: " + why;
+  if (!noise::read_secret_key(config_relative(config_path, root.key()->str()), identity, why)) {
+    error = config_path + ": key: " + why;
     return false;
   }
   if (listed == 0) {
-    error = cfg.path + ": \"key\" without \"clients\": a secure node would refuse every client; list their public "
-                       "keys (troupe keygen NAME writes NAME.pub)";
+    error = config_path +
+            ": \"key\" without \"clients\": a secure node would refuse every client; list their public "
+            "keys (troupe keygen NAME writes NAME.pub)";
     return false;
   }
   std::vector<noise::Key> clients;
@@ -66,11 +69,11 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
   auto rights = std::make_shared<std::unordered_map<std::string, std::shared_ptr<const Rights>>>();
   for (size_t i = 0; i < listed; ++i) {
     const config::TrustedClient& entry = *root.clients()->Get(static_cast<flatbuffers::uoffset_t>(i));
-    const std::string where = cfg.path + ": clients[" + std::to_string(i) + "]";
+    const std::string where = config_path + ": clients[" + std::to_string(i) + "]";
     noise::Key key;
     const std::string key_text = entry.key()->str();  // required: the verifier saw it
     if (!noise::parse_key_hex(key_text, key) &&
-        !noise::read_public_key(config_relative(cfg.path, key_text), key, why)) {
+        !noise::read_public_key(config_relative(config_path, key_text), key, why)) {
       error = where + ": " + why;
       return false;
     }
@@ -82,7 +85,8 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     clients.push_back(key);
     (*rights)[noise::key_hex(key)] = granted;
   }
-  options.make_transport = [identity, clients]() -> std::unique_ptr<wire::Transport> {
+  out.key_hex = noise::key_hex(identity.public_key);
+  out.make_transport = [identity, clients]() -> std::unique_ptr<wire::Transport> {
     noise::SecureOptions o;
     o.role = noise::Role::Responder;
     o.identity = identity;
@@ -93,10 +97,17 @@ bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::strin
     };
     return std::make_unique<noise::NoiseTransport>(std::move(o));
   };
-  options.rights_of = [rights](const std::string& peer) -> std::shared_ptr<const Rights> {
+  out.rights_of = [rights](const std::string& peer) -> std::shared_ptr<const Rights> {
     auto it = rights->find(peer);
     return it == rights->end() ? std::make_shared<const PatternRights>() : it->second;  // unknown: nothing
   };
+  return true;
+}
+
+bool secure_sessions(const LoadedConfig& cfg, Node::Options& options, std::string& error) {
+  SecureSessions sessions;
+  if (!secure_sessions(*cfg.root, cfg.path, sessions, error)) return false;
+  if (sessions.on()) sessions.apply(options);
   return true;
 }
 

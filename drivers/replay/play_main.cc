@@ -12,6 +12,7 @@
 #include "runtime/exposure.h"
 #include "runtime/log.h"
 #include "runtime/node.h"
+#include "runtime/secure_file.h"
 #include "runtime/stop_signals.h"
 #include "wire/address.h"
 #include "wire/cli/args.h"
@@ -93,8 +94,8 @@ int main(int argc, char** argv) {
   bool hold = false, info = false;
   double max_gap_s = double(replay.max_gap_us) * 1e-6;
   auto app = troupe::cli::make_app(
-      "troupe play", {"troupe play FILE [--speed X] [--port P] [--listen ADDR] [--loop] [--wait] [--hold]\n"
-                      "                        [--max-gap S]\n"
+      "troupe play", {"troupe play FILE [--speed X] [--port P] [--listen ADDR] [--secure FILE] [--loop]\n"
+                      "                        [--wait] [--hold] [--max-gap S]\n"
                       "       troupe play FILE --info [--max-gap S]",
                       "Serves a troupe log (made by `troupe record`) again as a node: the recorded\n"
                       "devices, with their data at the recorded pace and with the timestamps the\n"
@@ -106,7 +107,7 @@ int main(int argc, char** argv) {
                       "with its byte offset and play goes on at once.\n",
                       {"troupe play run1.trl",
                        "troupe play run1.trl --speed 4 --port 7000 & troupe echo localhost:7000 ranger:0",
-                       "troupe play laser.trl --loop --listen 0.0.0.0 --insecure"}});
+                       "troupe play laser.trl --loop --listen 0.0.0.0 --secure keys.json"}});
   app->add_option("FILE", replay.path, "the log to play")->required();
   app->add_option("--speed", replay.speed, "play X times as fast as recorded (default 1; 0.5: half speed)")
       ->type_name("X")
@@ -116,10 +117,14 @@ int main(int argc, char** argv) {
   app->add_option("--listen", node_options.listen,
                   "address to listen on (default localhost: 127.0.0.1 and ::1)")
       ->type_name("ADDR");
+  std::string secure_file;
+  auto* secure = app->add_option("--secure", secure_file, troupe::kSecureFlagHelp)->type_name("FILE");
   bool insecure = false;
   app->add_flag("--insecure", insecure,
-                "allow --listen beyond loopback: any machine that reaches the port\n"
-                "can read what was recorded (logged every minute)");
+                "allow --listen beyond loopback without --secure: any machine\n"
+                "that reaches the port can read what was recorded (logged\n"
+                "every minute)")
+      ->excludes(secure);
   app->add_flag("--loop", replay.loop, "start over after the last frame");
   app->add_flag("--wait", replay.wait_for_readers, "hold the start until every recorded device has a reader");
   app->add_flag("--hold", hold, "keep serving after the last frame, until Ctrl-C");
@@ -132,7 +137,14 @@ int main(int argc, char** argv) {
   replay.max_gap_us = uint64_t(max_gap_s * 1e6);
 
   std::string error;
-  if (!troupe::may_serve("troupe play", node_options.listen, node_options.port, /*secure=*/false, insecure, error)) {
+  troupe::SecureSessions sessions;
+  if (!secure_file.empty() && !info && !troupe::load_secure_sessions(secure_file, sessions, error)) {
+    std::fprintf(stderr, "troupe play: --secure %s\n", error.c_str());
+    return 2;
+  }
+  sessions.apply(node_options);
+  if (!info && !troupe::may_serve("troupe play", node_options.listen, node_options.port, sessions.on(),
+                                  insecure, error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 2;
   }
@@ -185,7 +197,9 @@ int main(int argc, char** argv) {
   troupe::StopSignals signals;
   StopWatch stop(node, signals);
   std::unique_ptr<troupe::PlainServiceWarning> plain_warning;
-  if (!troupe::loopback_only(node_options.listen)) {
+  if (sessions.on()) {
+    troupe::log_info("secure sessions only; this player's key is %s", sessions.key_hex.c_str());
+  } else if (!troupe::loopback_only(node_options.listen)) {
     plain_warning = std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe play on " + node.listen_text());
   }
   troupe::log_info("playing %s (%llu frames of %zu devices, %.1f s) at speed %g on %s:%u",

@@ -9,6 +9,7 @@
 #include "host-sim/viewer/view_server.h"
 #include "runtime/exposure.h"
 #include "runtime/log.h"
+#include "runtime/secure_file.h"
 #include "runtime/stop_signals.h"
 
 int main(int argc, char** argv) {
@@ -16,8 +17,13 @@ int main(int argc, char** argv) {
   troupe::sim::SimOptions options;
   if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
   std::string error;
-  if (options.serve &&
-      !troupe::may_serve("troupe-sim", options.listen, options.port, /*secure=*/false, options.insecure, error)) {
+  if (!options.secure_file.empty() &&
+      !troupe::load_secure_sessions(options.secure_file, options.secure, error)) {
+    std::fprintf(stderr, "troupe-sim: --secure %s\n", error.c_str());
+    return 2;
+  }
+  if (options.serve && !troupe::may_serve("troupe-sim", options.listen, options.port, options.secure.on(),
+                                          options.insecure, error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 2;
   }
@@ -37,6 +43,20 @@ int main(int argc, char** argv) {
     vo.node_port = node_port;
     vo.web_root = troupe::viewer::default_web_root();
     vo.allow_origins = options.view_allow_origins;
+    // A secure simulator's viewer is one of its clients, with that
+    // client's rights; without a key of its own it cannot be.
+    if (options.secure.on()) {
+      if (options.view_identity.empty()) {
+        if (options.view_asked) {
+          std::fprintf(stderr, "troupe-sim: --view with --secure needs --view-identity FILE\n");
+          return false;
+        }
+        troupe::log_warn("no browser viewer: a secure troupe-sim's viewer needs --view-identity FILE");
+        return true;
+      }
+      vo.keys.identity = options.view_identity;
+      vo.keys.node_key = options.secure.key_hex;
+    }
     viewer = std::make_unique<troupe::viewer::ViewServer>(vo);
     if (!viewer->open(error)) {
       viewer.reset();
@@ -59,7 +79,9 @@ int main(int argc, char** argv) {
     std::printf("listening on %s\n", node.listen_text().c_str());
     std::fflush(stdout);
     troupe::log_info("try: troupe ls %s:%u", options.listen.c_str(), unsigned(node.port()));
-    if (!troupe::loopback_only(options.listen)) {
+    if (options.secure.on()) {
+      troupe::log_info("secure sessions only; this simulator's key is %s", options.secure.key_hex.c_str());
+    } else if (!troupe::loopback_only(options.listen)) {
       plain_warning = std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe-sim on " + node.listen_text());
     }
   };

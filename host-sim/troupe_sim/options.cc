@@ -1,5 +1,7 @@
 #include "host-sim/troupe_sim/options.h"
 
+#include "runtime/exposure.h"
+#include "runtime/secure_file.h"
 #include "wire/cli/args.h"
 
 namespace troupe::sim {
@@ -59,9 +61,18 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   cli::add_port(*app, "--port", out.port, "TCP port (default 6665; 0: any free port, printed)");
   app->add_option("--listen", out.listen, "address to listen on (default localhost: 127.0.0.1 and ::1)")
       ->type_name("ADDR");
+  auto* secure = app->add_option("--secure", out.secure_file, kSecureFlagHelp)->type_name("FILE");
+  app->add_option("--view-identity", out.view_identity,
+                  "with --secure: the secret key the viewer's bridge connects\n"
+                  "with, one of FILE's clients (its rights are the viewer's);\n"
+                  "without it a secure troupe-sim starts no viewer")
+      ->type_name("FILE")
+      ->needs(secure);
   app->add_flag("--insecure", out.insecure,
-                "allow --listen beyond loopback: any machine that reaches the port\n"
-                "can read and command every robot (logged every minute)");
+                "allow --listen beyond loopback without --secure: any machine\n"
+                "that reaches the port can read and command every robot\n"
+                "(logged every minute)")
+      ->excludes(secure);
   app->add_flag("--port-per-robot", out.port_per_robot, "also serve robot i alone as robot 0 on port P+1+i");
   bool no_serve = false;
   app->add_flag("--no-serve", no_serve, "no network at all (batch runs)");
@@ -127,6 +138,14 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   out.view = !no_view;
   if (out.paused && !out.serve) {
     return cli::usage_error(*app, "--paused with --no-serve: nothing could ever resume the simulation");
+  }
+  if (secure->count() > 0 && !out.serve) {
+    return cli::usage_error(*app, "--secure with --no-serve: --no-serve opens no sockets");
+  }
+  if (secure->count() > 0 && p2os_tcp->count() > 0 && !loopback_only(out.listen)) {
+    return cli::usage_error(*app,
+                            "--p2os-tcp beyond loopback with --secure: P2OS has no secure sessions, "
+                            "so anyone reaching its ports would drive the robots");
   }
   if (p2os_tcp->count() > 0 && !out.serve) {
     return cli::usage_error(*app, "--p2os-tcp with --no-serve: --no-serve opens no sockets");

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/node_secure.h"
+
 namespace troupe::sim {
 
 /// MobileSim's first robot port, where `--p2os-tcp` serves robot 0.
@@ -23,8 +25,17 @@ struct SimOptions {
   bool paused = false;
   uint64_t seed = 0;
   std::string listen = "localhost";
-  /// Serve plain TCP beyond loopback (runtime/exposure.h): troupe-sim has no
-  /// secure sessions, so listening anywhere else must be asked for.
+  /// --secure FILE: the key and clients (with rights) of secure sessions,
+  /// as in a node config (runtime/node_secure.h). Empty: plain TCP.
+  std::string secure_file;
+  /// What main() read from secure_file; every node the simulator serves
+  /// runs it.
+  SecureSessions secure;
+  /// --view-identity FILE: the secret key its viewer's bridge opens secure
+  /// sessions with, one of the clients in secure_file.
+  std::string view_identity;
+  /// Serve plain TCP beyond loopback (runtime/exposure.h): without
+  /// secure_file, listening anywhere else must be asked for.
   bool insecure = false;
   /// TCP port; 0 picks a free one (printed at start).
   uint16_t port = 6665;

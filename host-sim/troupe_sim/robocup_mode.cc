@@ -47,6 +47,7 @@ bool RobocupMode::init(const SimOptions& options, std::string& error) {
   so.paused = options.paused;
   so.seconds = options.quit_time > 0 ? options.quit_time : 0;
   so.serve = options.serve;
+  so.secure = options.secure;
   loop_ = std::make_unique<robocup::ServeLoop>(*sim_);
   return loop_->start(so, error);
 }

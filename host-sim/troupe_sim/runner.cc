@@ -78,6 +78,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     no.port = options.port == 0 ? 0 : uint16_t(options.port + (i + 1));
     no.max_clients = uint16_t(std::min<size_t>(4096, 64 + 2 * world_->robot_count()));
     no.request_timeout_ms = kRequestTimeoutMs;
+    options.secure.apply(no);
     auto node = std::make_unique<Node>(no);
     node->set_clock(sim_clock_us, world_.get());
     auto server = std::make_unique<SimServer>(*world_, control_, i);

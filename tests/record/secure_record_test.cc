@@ -32,11 +32,7 @@ class SecureRecord : public ::testing::Test {
   void SetUp() override {
     std::string error;
     ASSERT_TRUE(robot_.make_keys({"laptop", "stranger"}, error)) << error;
-    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])",
-                             R"([ { "driver_type": "kinematic", "driver": { "rate_hz": 20 },
-                                    "provides": ["position2d:0"] } ])",
-                             error))
-        << error;
+    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])", kKinematicBase, error)) << error;
   }
   // `troupe record` of the robot's position2d:0 into `log`, as `identity`
   // holding `node_key`.

@@ -184,9 +184,9 @@ TEST_F(SimProcess, SteppingPastTheQuitTimeEndsTheRunAndSaysSo) {
       << sim_.err();
 }
 
-// troupe-sim has no secure sessions: serving beyond loopback lets any
-// machine that reaches the port drive every robot, so it must be asked for,
-// and the log keeps saying it was.
+// Without --secure (tests/security/secure_serve_test.cc), serving beyond
+// loopback lets any machine that reaches the port drive every robot, so it
+// must be asked for, and the log keeps saying it was.
 TEST_F(SimProcess, ListeningBeyondLoopbackNeedsInsecureAndTheLogSaysSo) {
   testing::ProgramResult refused =
       testing::run_to_end({kBin + "troupe-sim", write_world(0), "--port", "0", "--no-view", "--listen", "0.0.0.0"},

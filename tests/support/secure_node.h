@@ -12,6 +12,11 @@
 
 namespace troupe::testing {
 
+/// The drivers of a robot whose base is position2d:0, publishing at 20 Hz:
+/// what most tests of secure clients read and drive.
+inline constexpr char kKinematicBase[] =
+    R"([ { "driver_type": "kinematic", "driver": { "rate_hz": 20 }, "provides": ["position2d:0"] } ])";
+
 class SecureNodeProcess {
  public:
   /// Makes the folder and the key pairs "node" and each of `keys`

@@ -6,6 +6,7 @@
 // the reason and nothing of the node reaches it.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 
 #include "host-sim/viewer/view_server.h"
@@ -21,11 +22,7 @@ class SecureBridge : public ::testing::Test {
   void SetUp() override {
     std::string error;
     ASSERT_TRUE(robot_.make_keys({"laptop"}, error)) << error;
-    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])",
-                             R"([ { "driver_type": "kinematic", "driver": { "rate_hz": 20 },
-                                    "provides": ["position2d:0"] } ])",
-                             error))
-        << error;
+    ASSERT_TRUE(robot_.start(R"([{ "key": "laptop.pub" }])", testing::kKinematicBase, error)) << error;
   }
   // The viewer on a free port, bridged to the robot as laptop holding `node_key`.
   void start_viewer(const std::string& node_key) {
@@ -97,6 +94,48 @@ TEST_F(SecureBridge, AnUnreadableIdentityStopsTheViewerAtOpen) {
   std::string error;
   EXPECT_FALSE(server.open(error));
   EXPECT_NE(error.find(robot_.path("nobody")), std::string::npos) << error;
+}
+
+// troupe-sim with --secure serves its viewer as one of its clients: the
+// bridge connects with --view-identity and the simulator's own key, and a
+// page reads the simulated robot's devices. Without an identity of its own
+// a secure simulator's viewer cannot connect: --view then stops it at start.
+TEST_F(SecureBridge, ASecureSimulatorsViewerConnectsWithItsViewIdentity) {
+  const std::string bin = std::string(TROUPE_BINARY_DIR) + "/bin/troupe-sim";
+  std::ofstream(robot_.path("keys.json")) << R"({ "key": "node", "clients": [ { "key": "laptop.pub" } ] })";
+  std::ofstream(robot_.path("one.world")) << "define bot position ( size [0.4 0.3] )\nbot ( name \"r0\" )\n";
+  const std::vector<std::string> common = {bin,        robot_.path("one.world"), "--port", "0", "--view", "0",
+                                           "--secure", robot_.path("keys.json")};
+
+  testing::ProgramResult lonely = testing::run_to_end(common, 30'000);
+  EXPECT_EQ(lonely.status, 1);
+  EXPECT_NE(lonely.err.find("--view with --secure needs --view-identity FILE"), std::string::npos)
+      << lonely.err;
+
+  std::vector<std::string> argv = common;
+  argv.insert(argv.end(), {"--view-identity", robot_.path("laptop")});
+  testing::ChildProcess sim;
+  std::string error;
+  ASSERT_TRUE(sim.start(argv, robot_.dir(), "sim", error)) << error;
+  ASSERT_TRUE(sim.wait_for("viewer at http://", false, 30'000)) << sim.err();
+  const std::string out = sim.out();
+  const size_t at = out.find(':', out.find("viewer at http://") + 17);
+  Page page(uint16_t(std::atoi(out.c_str() + at + 1)));
+  page.send(hello());
+  w_.start();
+  page.send(w_.finish(wire::make_header({}, wire::Kind::DeviceList, 0, 1, 0)));
+  const std::vector<uint8_t> list = page.reply(1);
+  ASSERT_FALSE(list.empty()) << reason(page) << sim.err();
+  const wire::DeviceList* devices = wire::trusted_message(list)->body_as_DeviceList();
+  ASSERT_NE(devices, nullptr);
+  bool base = false;
+  for (const wire::DeviceInfo* d : *devices->devices()) {
+    base |= d->robot_name() && d->robot_name()->str() == "r0" &&
+            d->addr()->iface() == uint16_t(wire::Interface::Position2d);
+  }
+  EXPECT_TRUE(base) << "r0/position2d:0 through the secure viewer";
+  EXPECT_TRUE(sim.wait_for("secure session with key ", true, 10'000)) << sim.err();
+  sim.kill_hard();
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ bool ServeLoop::start(const ServeOptions& options, std::string& error) {
   no.listen = options.listen;
   no.port = options.port;
   no.max_clients = uint16_t(std::min(4096, 64 + 2 * sim_.robot_count()));
+  options.secure.apply(no);
   node_ = std::make_unique<Node>(no);
   // Data and replies carry simulated time: a client's TimeSync learns the
   // offset between its clock and the simulation's.

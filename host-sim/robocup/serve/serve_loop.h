@@ -13,6 +13,7 @@
 #include "host-sim/robocup/serve/robocup_server.h"
 #include "host-sim/sim_control/pacing.h"
 #include "runtime/node.h"
+#include "runtime/node_secure.h"
 
 namespace troupe::robocup {
 
@@ -27,6 +28,8 @@ struct ServeOptions {
   double seconds = 0;
   /// False: no sockets at all (batch runs); the loop still runs.
   bool serve = true;
+  /// Secure sessions; empty: plain TCP.
+  SecureSessions secure;
 };
 
 class ServeLoop {
