@@ -164,7 +164,7 @@ TEST(CliNode, BadConfigNamesTheKeyAndNothingStarts) {
       << ", \"drivers\": [ { \"driver_type\": \"kinematic\", \"driver\": { \"max_speeed\": 1 },"
          " \"provides\": [\"position2d:0\"] } ] }";
   Result r = run(kNode + " " + path);
-  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.rc, 78) << "EX_CONFIG";
   EXPECT_NE(r.err.find("bad.json:1:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("unknown field: max_speeed"), std::string::npos) << r.err;
   EXPECT_FALSE(listening(port));
