@@ -90,9 +90,13 @@ bool flag_number(const char* flag, const char* text, unsigned long min, unsigned
 bool write_node_key(const std::string& path, std::string& error) {
   namespace noise = troupe::wire::noise;
   char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') snprintf(host, sizeof host, "troupe-node");
+  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') {
+    snprintf(host, sizeof host, "troupe-node");
+  }
   noise::Key key;
-  if (!noise::write_key_pair(path, host, error) || !noise::read_public_key(path + ".pub", key, error)) return false;
+  if (!noise::write_key_pair(path, host, error) || !noise::read_public_key(path + ".pub", key, error)) {
+    return false;
+  }
   printf("%s: secret key (readable by its owner only)\n%s.pub: public key %s\n", path.c_str(), path.c_str(),
          noise::key_hex(key).c_str());
   return true;
@@ -170,7 +174,10 @@ int main(int argc, char** argv) {
       fprintf(stderr, "troupe-node: bad log level '%s'\n%s", level, kUsage);
       return troupe::kExitUsage;
     }
-    if (!set(std::string("log_level=") + troupe::config::EnumNameLogLevel(troupe::config::LogLevel(parsed)))) return troupe::kExitUsage;
+    if (!set(std::string("log_level=") +
+             troupe::config::EnumNameLogLevel(troupe::config::LogLevel(parsed)))) {
+      return troupe::kExitUsage;
+    }
   }
   // Their own checks first (--max-clients 0 is a mistake the schema allows).
   struct NumberFlag {

@@ -23,22 +23,6 @@ bool verified(const std::vector<uint8_t>& bytes) {
   return config::VerifyNodeConfigBuffer(verifier);
 }
 
-bool read_file(const std::string& path, std::vector<uint8_t>& out, std::string& error) {
-  FILE* f = fopen(path.c_str(), "rb");
-  if (f == nullptr) {
-    error = path + ": cannot open: " + strerror(errno);
-    return false;
-  }
-  out.clear();
-  uint8_t chunk[4096];
-  size_t n = 0;
-  while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) out.insert(out.end(), chunk, chunk + n);
-  bool failed = ferror(f) != 0;
-  fclose(f);
-  if (failed) error = path + ": read error";
-  return !failed;
-}
-
 const DriverEntry* find_driver(const char* name) {
   for (const DriverEntry* const* e = kBoardDrivers; *e != nullptr; ++e) {
     if (strcmp((*e)->name, name) == 0) return *e;
@@ -78,8 +62,8 @@ bool load_config(const std::string& path, LoadedConfig& out, std::string& error)
   out = LoadedConfig{};
   out.path = path;
   std::vector<uint8_t> raw;
-  if (!read_file(path, raw, error)) return false;
-  bool binary = raw.size() >= 8 && flatbuffers::BufferHasIdentifier(raw.data(), config::NodeConfigIdentifier());
+  bool binary = false;
+  if (!read_config_file(path, raw, binary, error)) return false;
   if (binary) {
     out.bytes = std::move(raw);
   } else if (!parse_config_json(std::string(raw.begin(), raw.end()), path, out.bytes, error)) {

@@ -2,7 +2,10 @@
 // all or nothing.
 #pragma once
 
+#include <cerrno>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -65,6 +68,36 @@ inline std::string config_relative(const std::string& config_path, const std::st
   if (path.empty() || path.front() == '/') return path;
   const size_t slash = config_path.rfind('/');
   return slash == std::string::npos ? path : config_path.substr(0, slash + 1) + path;
+}
+
+/// The node config file at `path` as it is, not yet verified: `binary` when
+/// it is flatc's binary (the schema's identifier after the root offset),
+/// else text for the caller to parse as JSON with its schema. False with
+/// `error` naming the file when it cannot be read. Inline, as
+/// config_relative: troupe-sim and troupe play read their --secure file
+/// (secure_file.h) with it and link no driver table.
+inline bool read_config_file(const std::string& path, std::vector<uint8_t>& bytes, bool& binary,
+                             std::string& error) {
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) {
+    error = path + ": cannot open: " + std::strerror(errno);
+    return false;
+  }
+  bytes.clear();
+  uint8_t chunk[4096];
+  for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;) {
+    bytes.insert(bytes.end(), chunk, chunk + n);
+  }
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) {
+    error = path + ": read error";
+    return false;
+  }
+  // Compared by hand: GCC 12's -Werror build takes BufferHasIdentifier for
+  // an overread.
+  binary = bytes.size() >= 8 && std::memcmp(bytes.data() + 4, config::NodeConfigIdentifier(), 4) == 0;
+  return true;
 }
 
 /// Node::Options as the config sets them.

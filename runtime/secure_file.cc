@@ -1,13 +1,11 @@
 #include "runtime/secure_file.h"
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <vector>
 
 #include "flatbuffers/reflection_generated.h"
 #include "runtime/config_generated.h"
 #include "runtime/config_json.h"
+#include "runtime/node_config.h"
 
 // The node config schema (flatc --schema -b), embedded at build time.
 extern const unsigned char troupe_config_bfbs[];
@@ -17,25 +15,8 @@ namespace troupe {
 
 bool load_secure_sessions(const std::string& path, SecureSessions& out, std::string& error) {
   std::vector<uint8_t> bytes;
-  FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) {
-    error = path + ": cannot open: " + std::strerror(errno);
-    return false;
-  }
-  uint8_t chunk[4096];
-  for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;) {
-    bytes.insert(bytes.end(), chunk, chunk + n);
-  }
-  const bool failed = std::ferror(f) != 0;
-  std::fclose(f);
-  if (failed) {
-    error = path + ": read error";
-    return false;
-  }
-  // flatc's binary carries the schema's identifier after the root offset;
-  // compared by hand (GCC 12 takes BufferHasIdentifier for an overread).
-  const bool binary =
-      bytes.size() >= 8 && std::memcmp(bytes.data() + 4, config::NodeConfigIdentifier(), 4) == 0;
+  bool binary = false;
+  if (!read_config_file(path, bytes, binary, error)) return false;
   if (!binary) {
     std::vector<uint8_t> parsed;
     if (!parse_node_config_json(troupe_config_bfbs, troupe_config_bfbs_size, "host", "none",
