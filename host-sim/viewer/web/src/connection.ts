@@ -198,7 +198,7 @@ export class Connection {
   async open(addr: Address, access: W.Access = W.Access.Read): Promise<void> {
     const seq = this.seq++;
     const reply = this.expect(seq);
-    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push)]);
+    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push, W.ImageCompression.None)]);
     await reply;
   }
 
