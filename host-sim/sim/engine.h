@@ -216,9 +216,14 @@ struct Engine {
     uint32_t color;
   };
   std::vector<Span> spans;
-  // A camera column's pixel ray length per metre of horizontal distance,
-  // per row.
-  std::vector<float> camera_ray_scale;
+  // A camera's rows per metre of height at one metre, per column, and the
+  // robots it may see with the columns they may cover.
+  std::vector<double> camera_k;
+  struct CameraCandidate {
+    RobotId robot;
+    int u0, u1;  // columns, inclusive
+  };
+  std::vector<CameraCandidate> camera_cols;
 };
 
 }  // namespace troupe::sim
