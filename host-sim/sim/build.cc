@@ -253,7 +253,7 @@ void Engine::build_robot(const RobotDesc& r) {
   ri.bumpers = {uint32_t(bumpers.size()), uint32_t(r.bumpers.size())};
   for (size_t k2 = 0; k2 < r.bumpers.size(); ++k2) bumpers.push_back({id, false, UINT64_MAX, 0});
   ri.cameras = {uint32_t(cameras.size()), uint32_t(r.cameras.size())};
-  for (size_t k2 = 0; k2 < r.cameras.size(); ++k2) cameras.push_back({id, false, UINT64_MAX, {}, {}});
+  for (size_t k2 = 0; k2 < r.cameras.size(); ++k2) cameras.push_back({id, false, UINT64_MAX, 0, 0, {}, {}});
   info.push_back(std::move(ri));
 }
 

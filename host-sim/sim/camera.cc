@@ -159,6 +159,8 @@ void Engine::render_camera(uint32_t index) {
       }
     }
   }
+  st.width = w;
+  st.height = h;
   st.step = steps;
 }
 

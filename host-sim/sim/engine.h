@@ -112,6 +112,7 @@ struct CameraState {
   RobotId robot = 0;
   bool wanted = false;
   uint64_t step = UINT64_MAX;
+  int width = 0, height = 0;  // px, of the images held (the desc may have changed since)
   std::vector<uint8_t> rgb;
   std::vector<float> depth;
 };

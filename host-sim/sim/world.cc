@@ -310,11 +310,7 @@ const CameraDesc& World::camera_desc(uint32_t index) const {
 
 CameraView World::camera(uint32_t index) const {
   const CameraState& s = e_->cameras.at(index);
-  const CameraDesc& d = camera_desc(index);
-  // Before the first rendering the buffers are empty: report 0 x 0 rather
-  // than a size the spans do not hold.
-  const bool ready = s.depth.size() == size_t(d.width) * size_t(d.height);
-  return {ready ? d.width : 0, ready ? d.height : 0, s.rgb, s.depth, s.step};
+  return {s.width, s.height, s.rgb, s.depth, s.step};
 }
 
 bool World::set_camera_size(uint32_t index, int width, int height) {

@@ -208,8 +208,8 @@ void SimServer::publish_camera(Device& d) {
   auto& b = node_->begin();
   auto data = b.CreateVector(scratch_pixels_);
   auto body = wire::CreateCameraImage(b, uint16_t(v.width), uint16_t(v.height), d.format,
-                                      uint32_t(size_t(v.width) * bpp), wire::ImageCompression::None, data,
-                                      uint64_t(std::llround(world_.time() * 1e6)));
+                                      uint32_t(size_t(v.width) * bpp), wire::ImageCompression::None, data);
+  // No stamp_us: the image is of this step, whose time the header carries.
   node_->publish(d.id, uint8_t(wire::CameraDataSub::Image), wire::Body::CameraImage, body.Union());
   d.last_image = world_.time();
 }

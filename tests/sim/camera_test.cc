@@ -263,5 +263,19 @@ TEST(Camera, BadStageValuesAreErrorsWithFileAndLine) {
   }
 }
 
+TEST(Camera, TheExampleWorldLoadsWithoutWarningsAndSeesTheVisitor) {
+  world::Diagnostics diags;
+  auto w = World::load(std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/camera.world", 1, diags);
+  ASSERT_TRUE(w) << diags.str();
+  EXPECT_EQ(diags.str(), "");
+  const CameraView v = render(*w, w->robot(0).cameras.first);
+  ASSERT_EQ(v.width, 160);
+  ASSERT_EQ(v.height, 120);
+  // The blue visitor, 0.3 m high, stands straight ahead below the camera's
+  // horizon (the camera is 0.325 m up): the middle column under the centre.
+  EXPECT_EQ(pixel(v, 80, 70), kBlue);
+  EXPECT_NEAR(depth(v, 80, 70), 2.7 * std::sqrt(1 + std::pow((60 - 70.5) / (60 / std::tan(22.5 * kDeg)), 2)), 0.03);
+}
+
 }  // namespace
 }  // namespace troupe::sim

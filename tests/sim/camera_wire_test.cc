@@ -7,8 +7,7 @@
 #include <cmath>
 #include <thread>
 
-#include "host-sim/troupe_sim/runner.h"
-#include "tests/sim/temp_dir.h"
+#include "tests/sim/served_world.h"
 #include "wire/client/proxies.h"
 #include "wire/image.h"
 
@@ -25,26 +24,9 @@ position ( name "cam" size [0.4 0.4 0.3] localization "gps"
   camera ( resolution [40 30] range [0.1 8] fov [60 45] ) )
 )";
 
-class CameraWire : public ::testing::Test {
+class CameraWire : public test::ServedWorld {
  protected:
-  void SetUp() override {
-    SimOptions o;
-    o.world = dir_.write("w.world", kWorld);
-    o.port = 0;
-    o.paused = true;
-    world::Diagnostics d;
-    std::string error;
-    ASSERT_TRUE(runner_.init(o, d, error)) << d.str() << error;
-    thread_ = std::thread([this] { runner_.run(); });
-  }
-  void TearDown() override {
-    runner_.request_stop();
-    if (thread_.joinable()) thread_.join();
-  }
-
-  troupe::test::TempDir dir_;
-  Runner runner_;
-  std::thread thread_;
+  CameraWire() : ServedWorld(kWorld) {}
 };
 
 TEST_F(CameraWire, ImagesGeometryAndConfigurationOverTheWire) {
@@ -66,6 +48,7 @@ TEST_F(CameraWire, ImagesGeometryAndConfigurationOverTheWire) {
   ASSERT_EQ(im.height, 30u);
   EXPECT_EQ(im.format, wire::PixelFormat::Rgb8);
   EXPECT_EQ(im.stride, 120u);
+  EXPECT_EQ(im.stamp_us, 100000u);  // taken at the first step: 0.1 s simulated
   ASSERT_EQ(im.data.size(), 40u * 30u * 3u);
   // The middle pixel sees the wall: red.
   const size_t mid = (15u * 40u + 20u) * 3u;

@@ -133,7 +133,7 @@ struct Image {
   unsigned stride = 0;  // bytes from one row to the next
   wire::ImageCompression compression = wire::ImageCompression::None;
   std::vector<uint8_t> data;
-  uint64_t stamp_us = 0;  // sender's clock, us
+  uint64_t stamp_us = 0;  // when it was taken, sender's clock, us
 };
 
 /// What a camera's geometry request tells: pose on the robot (m, rad),

@@ -96,7 +96,7 @@ void CameraProxy::update(const wire::Message& msg) {
   image_.format = s->format();
   image_.stride = s->stride();
   image_.compression = s->compression();
-  image_.stamp_us = s->stamp_us();
+  image_.stamp_us = s->stamp_us() != 0 ? s->stamp_us() : wire::time_us(*msg.header());
   if (s->data()) {
     image_.data.assign(s->data()->begin(), s->data()->end());
   } else {
