@@ -319,10 +319,12 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   }
   d.pose = {at.x, at.y, at.a + pantilt[0]};
   d.tilt = pantilt[1];
-  d.size = c.size;
-  d.size_z = c.look.height;
+  if (e.find("size") != nullptr) {  // else Stage's camera size, not a model's
+    d.size = c.size;
+    d.size_z = c.look.height;
+  }
   // Stage stacks a model on its parent: the camera sits on top of the robot.
-  d.z = r.look.height + 0.5 * c.look.height;
+  d.z = r.look.height + 0.5 * d.size_z;
   r.cameras.push_back(d);
 }
 

@@ -231,11 +231,12 @@ TEST(Camera, StageKeysLoad) {
 resolution 0.02
 position ( name "r0" size [0.4 0.4 0.3]
   camera ( pose [0.1 0 0 0] size [0.1 0.07 0.06] resolution [64 48] range [0.1 6] fov [60 45] pantilt [10 -5] ) )
+position ( name "r1" size [0.4 0.4 0.3] camera ( ) )
 )"),
                               d, diags))
       << diags.str();
   EXPECT_EQ(diags.str().find("camera"), std::string::npos) << diags.str();
-  ASSERT_EQ(d.robots.size(), 1u);
+  ASSERT_EQ(d.robots.size(), 2u);
   ASSERT_EQ(d.robots[0].cameras.size(), 1u);
   const CameraDesc& c = d.robots[0].cameras[0];
   EXPECT_EQ(c.width, 64);
@@ -248,6 +249,16 @@ position ( name "r0" size [0.4 0.4 0.3]
   EXPECT_NEAR(c.tilt, -5 * kDeg, 1e-12);
   EXPECT_NEAR(c.pose.x, 0.1, 1e-12);
   EXPECT_NEAR(c.z, 0.3 + 0.03, 1e-12);  // on top of the robot
+  // Stage's defaults, its camera's size included.
+  ASSERT_EQ(d.robots[1].cameras.size(), 1u);
+  const CameraDesc& s = d.robots[1].cameras[0];
+  EXPECT_EQ(s.width, 32);
+  EXPECT_EQ(s.height, 32);
+  EXPECT_DOUBLE_EQ(s.near, 0.2);
+  EXPECT_DOUBLE_EQ(s.far, 8);
+  EXPECT_NEAR(s.hfov, 70 * kDeg, 1e-12);
+  EXPECT_NEAR(s.vfov, 40 * kDeg, 1e-12);
+  EXPECT_NEAR(s.z, 0.3 + 0.025, 1e-12);
 }
 
 TEST(Camera, BadStageValuesAreErrorsWithFileAndLine) {
