@@ -23,6 +23,16 @@ namespace troupe {
 
 class Server;
 
+/// Whether this build's nodes may run secure sessions and client rights
+/// (Options::make_transport, rights_of). False in a board built without
+/// them (TROUPE_PLAIN_ONLY): the compiler then drops the code, which the
+/// armhf core's 64 KiB budget needs.
+#ifdef TROUPE_PLAIN_ONLY
+inline constexpr bool kSessionsMayBeSecure = false;
+#else
+inline constexpr bool kSessionsMayBeSecure = true;
+#endif
+
 class Node final : public TimerHandler {
  public:
   struct Options {

@@ -283,7 +283,7 @@ void Server::accept_clients(int listen_fd) {
     client_of_fd_[size_t(fd)] = index + 1;
     node_.loop().watch(fd, EPOLLIN, this);
     c.writing = false;
-    if (node_.options().make_transport) {
+    if (kSessionsMayBeSecure && node_.options().make_transport) {
       c.transport = node_.options().make_transport();
       c.sealed.clear();
       c.transport->begin(c.sealed);  // the node answers: nothing to send yet
@@ -298,7 +298,7 @@ void Server::read_client(uint32_t index) {
   Client& c = clients_[index];
   const wire::Limits& limits = node_.options().limits;
   for (int i = 0; i < kReadsPerEvent && c.state == State::Open; ++i) {
-    const bool secure = c.transport != nullptr;
+    const bool secure = kSessionsMayBeSecure && c.transport != nullptr;
     std::span<uint8_t> space = secure ? std::span<uint8_t>(c.raw) : c.reader.write_space(kReadChunk);
     ssize_t n = recv(c.fd, space.data(), space.size(), MSG_DONTWAIT);
     if (n < 0) {
@@ -392,7 +392,7 @@ void Server::handle_hello(uint32_t index, const wire::Message& msg) {
   }
   Client& c = clients_[index];
   c.max_frame = hello->max_frame_bytes();
-  if (hello->udp_port() != 0 && c.transport != nullptr) {
+  if (kSessionsMayBeSecure && hello->udp_port() != 0 && c.transport != nullptr) {
     // Datagrams would travel outside the secure session.
     log_warn("client %u asked for UDP data, but its session is secure; data stays on TCP", index);
   } else if (hello->udp_port() != 0 && udp_for(c.peer.ss_family) < 0) {
@@ -442,10 +442,10 @@ void Server::flush(uint32_t index) {
     if (c.partial_head < c.partial.size()) return want_write(index, true);
   }
   // A secure session's frames wait until its handshake is over.
-  if (c.transport != nullptr && !c.transport->ready()) return want_write(index, false);
+  if (kSessionsMayBeSecure && c.transport != nullptr && !c.transport->ready()) return want_write(index, false);
   // 2. Reliable frames, in order; a secure session seals them all at once
   // (a sealed message must go whole): what the socket leaves goes to partial.
-  if (c.transport != nullptr && c.out_head < c.out.size()) {
+  if (kSessionsMayBeSecure && c.transport != nullptr && c.out_head < c.out.size()) {
     c.sealed.clear();
     c.transport->outbound({c.out.data() + c.out_head, c.out.size() - c.out_head}, c.sealed);
     c.out_head = c.out.size();
@@ -481,7 +481,7 @@ void Server::flush(uint32_t index) {
       bits &= uint8_t(~(1u << slot));
       reader->dirty = bits;
       std::span<const uint8_t> frame = node_.devices_[dev].slots[slot].frame;
-      if (c.transport != nullptr) {
+      if (kSessionsMayBeSecure && c.transport != nullptr) {
         c.sealed.clear();
         c.transport->outbound(frame, c.sealed);
         frame = c.sealed;

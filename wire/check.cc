@@ -49,6 +49,9 @@ constexpr BodyRule kRules[] = {
     {I::Simulation, K::Request, sub(SimulationReqSub::Models), Body::NONE, false},
     {I::Opaque, K::Command, sub(OpaqueSub::Bytes), Body::OpaqueBytes, false},
     {I::Opaque, K::Request, sub(OpaqueSub::Bytes), Body::OpaqueBytes, false},
+    {I::Camera, K::Request, sub(CameraReqSub::Geometry), Body::NONE, false},
+    {I::Camera, K::Request, sub(CameraReqSub::GetConfig), Body::NONE, false},
+    {I::Camera, K::Request, sub(CameraReqSub::SetConfig), Body::CameraConfig, true},
 };
 
 struct Range {
@@ -156,7 +159,8 @@ bool check_body(Check& c, Body type, const void* body) {
     case Body::Open: {
       auto* b = static_cast<const Open*>(body);
       return c.count(uint64_t(b->access()), uint64_t(Access::Read), uint64_t(Access::All), "access") &&
-             c.count(uint64_t(b->delivery()), 0, uint64_t(Delivery::MAX), "delivery");
+             c.count(uint64_t(b->delivery()), 0, uint64_t(Delivery::MAX), "delivery") &&
+             c.count(uint64_t(b->compression()), 0, uint64_t(ImageCompression::MAX), "compression");
     }
     case Body::Position2dVel:
       return c.pose(static_cast<const Position2dVel*>(body)->vel(), true, kVelocity, kTurnRate, "vel");
@@ -177,6 +181,12 @@ bool check_body(Check& c, Body type, const void* body) {
       auto* b = static_cast<const MapTileRequest*>(body);
       return c.count(b->width(), 1, kMaxTileCells, "width") && c.count(b->height(), 1, kMaxTileCells, "height") &&
              c.count(uint64_t(b->width()) * b->height(), 1, kMaxTileCells, "width*height");
+    }
+    case Body::CameraConfig: {
+      auto* b = static_cast<const CameraConfig*>(body);
+      return c.count(b->width(), 0, kMaxImageSide, "width") && c.count(b->height(), 0, kMaxImageSide, "height") &&
+             c.number(b->rate(), Range{0, kMaxImageRate, "Hz"}, "rate") &&
+             c.count(uint64_t(b->format()), 0, uint64_t(PixelFormat::MAX), "format");
     }
     case Body::SimStep: return c.count(static_cast<const SimStep*>(body)->steps(), 1, kMaxSteps, "steps");
     case Body::SimSpeed:

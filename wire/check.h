@@ -36,6 +36,11 @@ inline constexpr uint32_t kMaxSteps = 1000000;
 inline constexpr float kMaxSimSpeed = 1e6f;
 /// Cells in one map tile (512 x 512: 64 KiB packed).
 inline constexpr uint32_t kMaxTileCells = 512 * 512;
+/// Camera configuration: image width and height, px, and images per
+/// second, Hz. The side is a sanity bound, not a promise: an image must
+/// also fit the frame limit to be sent.
+inline constexpr uint32_t kMaxImageSide = 4096;
+inline constexpr float kMaxImageRate = 1000.0f;
 /// Smallest Hello.max_frame_bytes a peer may announce (0: not announced),
 /// bytes: below it not even an Error with its text fits.
 inline constexpr uint32_t kMinFrameBytes = 1024;

@@ -6,9 +6,9 @@ namespace troupe::wire {
 namespace {
 
 // Indexed by Interface code; append in the order of the enum.
-constexpr std::array<std::string_view, 13> kInterfaceNames = {
+constexpr std::array<std::string_view, 14> kInterfaceNames = {
     "none",     "position2d", "ranger",   "power", "bumper",     "blobfinder", "fiducial",
-    "actuator", "imu",        "localize", "map",   "simulation", "opaque"};
+    "actuator", "imu",        "localize", "map",   "simulation", "opaque",     "camera"};
 
 constexpr std::array<std::string_view, 13> kKindNames = {
     "invalid", "data",       "command", "request", "ack",      "nack", "hello",
@@ -75,6 +75,9 @@ uint16_t body_interface(Body body) {
     case Body::SimModelList:
     case Body::SimPoses: return code(I::Simulation);
     case Body::OpaqueBytes: return code(I::Opaque);
+    case Body::CameraImage:
+    case Body::CameraGeometry:
+    case Body::CameraConfig: return code(I::Camera);
   }
   return code(I::None);
 }

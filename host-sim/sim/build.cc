@@ -70,6 +70,7 @@ Engine::Engine(const WorldDesc& d, Random r) : desc(d), random(r) {
   ph_blobfinders = profile.define("blobfinders");
   ph_fiducials = profile.define("fiducials");
   ph_bumpers = profile.define("bumpers");
+  ph_cameras = profile.define("cameras");
   build();
 }
 
@@ -251,6 +252,8 @@ void Engine::build_robot(const RobotDesc& r) {
   for (size_t k2 = 0; k2 < r.fiducials.size(); ++k2) fiducials.push_back({id, false, UINT64_MAX, {}});
   ri.bumpers = {uint32_t(bumpers.size()), uint32_t(r.bumpers.size())};
   for (size_t k2 = 0; k2 < r.bumpers.size(); ++k2) bumpers.push_back({id, false, UINT64_MAX, 0});
+  ri.cameras = {uint32_t(cameras.size()), uint32_t(r.cameras.size())};
+  for (size_t k2 = 0; k2 < r.cameras.size(); ++k2) cameras.push_back({id, false, UINT64_MAX, 0, 0, {}, {}});
   info.push_back(std::move(ri));
 }
 

@@ -54,6 +54,8 @@ class WorldRobot final : public RobotHandle {
         return r.blobfinders;
       case SensorKind::Bumper:
         return r.bumpers;
+      case SensorKind::Camera:
+        return r.cameras;
     }
     return {};
   }

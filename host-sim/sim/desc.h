@@ -99,6 +99,30 @@ struct BlobfinderDesc {
   std::vector<uint32_t> colors;  // tracked 0x00RRGGBB; empty: every colour
 };
 
+/// A camera rendering the 2.5D world: footprints extruded to their heights
+/// over a floor. Stage's syntax and defaults:
+///   camera( resolution [32 32] range [0.2 8.0] fov [70.0 40.0]
+///           pantilt [0 0] size [0.1 0.07 0.05] color "black" )
+struct CameraDesc {
+  /// On the robot, robot frame: m, m, rad (the pan is added to a).
+  Pose pose;
+  /// Height of the optical centre above the floor, m (Stage stacks a camera
+  /// on its robot: the robot's height plus half the camera's).
+  double z = 0.5;
+  /// Up from level, rad. Applied as a lens shift (rows move by
+  /// fy tan(tilt)) so vertical edges stay vertical, as in the 2.5D world.
+  double tilt = 0;
+  int width = 32, height = 32;        // image, px
+  double near = 0.2, far = 8.0;       // m along a pixel's ray
+  double hfov = 70 * kPi / 180;       // rad across the image
+  double vfov = 40 * kPi / 180;       // rad down the image
+  Vec2 size{0.1, 0.07};               // body, m (for geometry requests)
+  double size_z = 0.05;               // m
+};
+
+/// Largest image side a world file or configuration may ask for, px.
+inline constexpr int kMaxCameraSide = 4096;
+
 struct FiducialDesc {
   Pose pose;                // robot frame
   double range_min = 0;     // m
@@ -167,6 +191,7 @@ struct RobotDesc {
   std::vector<BlobfinderDesc> blobfinders;
   std::vector<FiducialDesc> fiducials;
   std::vector<BumperDesc> bumpers;
+  std::vector<CameraDesc> cameras;
 
   /// Controller named in the world file ("wander arg1 ..."), and where.
   std::string ctrl;

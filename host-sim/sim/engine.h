@@ -108,6 +108,15 @@ struct BumperState {
   uint32_t pressed = 0;
 };
 
+struct CameraState {
+  RobotId robot = 0;
+  bool wanted = false;
+  uint64_t step = UINT64_MAX;
+  int width = 0, height = 0;  // px, of the images held (the desc may have changed since)
+  std::vector<uint8_t> rgb;
+  std::vector<float> depth;
+};
+
 /// A static model, for what the grid cannot say: which model a ray hit
 /// (colour, reflectance) and fiducial landmarks.
 struct StaticInfo {
@@ -148,6 +157,9 @@ struct Engine {
   void update_blobfinders();
   void update_fiducials();
   void update_bumpers();
+  // camera.cc
+  void update_cameras();
+  void render_camera(uint32_t index);
 
   void update_sensors();
   void publish_states();
@@ -159,7 +171,7 @@ struct Engine {
   SpatialHash hash;
   Profile profile;
   size_t ph_control, ph_integrate, ph_broadphase, ph_collide, ph_odometry, ph_rangers, ph_blobfinders,
-      ph_fiducials, ph_bumpers;
+      ph_fiducials, ph_bumpers, ph_cameras;
   double time = 0;  // s
   uint64_t steps = 0;
 
@@ -180,6 +192,7 @@ struct Engine {
   std::vector<BlobState> blobfinders;
   std::vector<FiducialState> fiducials;
   std::vector<BumperState> bumpers;
+  std::vector<CameraState> cameras;
   std::vector<StaticInfo> statics;
 
   // Scratch, reused every step so the step does not allocate.
@@ -198,6 +211,20 @@ struct Engine {
   std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
+  struct Span {
+    double t;  // m along the column's horizontal direction
+    double top;  // m above the floor
+    uint32_t color;
+  };
+  std::vector<Span> spans;
+  // A camera's rows per metre of height at one metre, per column, and the
+  // robots it may see with the columns they may cover.
+  std::vector<double> camera_k;
+  struct CameraCandidate {
+    RobotId robot;
+    int u0, u1;  // columns, inclusive
+  };
+  std::vector<CameraCandidate> camera_cols;
 };
 
 }  // namespace troupe::sim

@@ -110,6 +110,9 @@ void Loader::robot_part(const Entity& e, const Pose& parent, RobotDesc& r) {
     case ModelKind::Bumper:
       bumper(e, at, r);
       break;
+    case ModelKind::Camera:
+      camera(e, c, at, r);
+      break;
     case ModelKind::Sensor:
       diags().warn(e.loc, "a sensor( ... ) belongs inside a ranger; ignored");
       for (const Property& p : e.properties) p.used = true;
@@ -279,6 +282,50 @@ void Loader::bumper(const Entity& e, const Pose& at, RobotDesc& r) {
     b.segments.push_back({{p[0], p[1], p[2]}, len});
   }
   r.bumpers.push_back(std::move(b));
+}
+
+void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r) {
+  CameraDesc d;
+  double res[2] = {double(d.width), double(d.height)};
+  if (read_.tuple(e, "resolution", "ff", res) > 0 &&
+      !(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxCameraSide && res[1] <= kMaxCameraSide &&
+        res[0] == std::floor(res[0]) && res[1] == std::floor(res[1]))) {
+    diags().error(e.find("resolution")->loc,
+                  "camera resolution must be whole numbers of pixels, 1.." + std::to_string(kMaxCameraSide) +
+                      " each way");
+    return;
+  }
+  d.width = int(res[0]);
+  d.height = int(res[1]);
+  double range[2] = {d.near, d.far};
+  if (read_.tuple(e, "range", "ll", range) > 0 && !(range[0] > 0 && range[1] > range[0])) {
+    diags().error(e.find("range")->loc, "camera range [near far] needs 0 < near < far (m)");
+    return;
+  }
+  d.near = range[0];
+  d.far = range[1];
+  double fov[2] = {d.hfov, d.vfov};
+  if (read_.tuple(e, "fov", "aa", fov) > 0 && !(fov[0] > 0 && fov[0] < kPi && fov[1] > 0 && fov[1] < kPi)) {
+    diags().error(e.find("fov")->loc, "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
+    return;
+  }
+  d.hfov = fov[0];
+  d.vfov = fov[1];
+  double pantilt[2] = {0, 0};
+  read_.tuple(e, "pantilt", "aa", pantilt);
+  if (!(std::fabs(pantilt[1]) < kPi / 2)) {
+    diags().error(e.find("pantilt")->loc, "camera tilt must be within +-90 degrees");
+    return;
+  }
+  d.pose = {at.x, at.y, at.a + pantilt[0]};
+  d.tilt = pantilt[1];
+  if (e.find("size") != nullptr) {  // else Stage's camera size, not a model's
+    d.size = c.size;
+    d.size_z = c.look.height;
+  }
+  // Stage stacks a model on its parent: the camera sits on top of the robot.
+  d.z = r.look.height + 0.5 * d.size_z;
+  r.cameras.push_back(d);
 }
 
 void Loader::power(const Entity& e, RobotDesc& r) {

@@ -31,7 +31,7 @@ constexpr TypeEntry kTypes[] = {
     {"bumper", ModelKind::Bumper},
     {"block", ModelKind::Block},
     {"window", ModelKind::Window},
-    {"camera", ModelKind::NotSimulated},
+    {"camera", ModelKind::Camera},
     {"gripper", ModelKind::NotSimulated},
     {"actuator", ModelKind::NotSimulated},
     {"blinkenlight", ModelKind::NotSimulated},

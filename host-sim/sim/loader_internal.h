@@ -20,6 +20,7 @@ enum class ModelKind {
   Blobfinder,
   Fiducial,
   Bumper,
+  Camera,
   Block,
   Window,
   NotSimulated,
@@ -65,6 +66,7 @@ class Loader {
   void blobfinder(const world::Entity& e, const Pose& at, RobotDesc& r);
   void fiducial(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void bumper(const world::Entity& e, const Pose& at, RobotDesc& r);
+  void camera(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void power(const world::Entity& e, RobotDesc& r);
 
   const world::WorldFile& file_;

@@ -34,6 +34,10 @@ void Engine::update_sensors() {
     PhaseTimer t(profile, ph_bumpers);
     update_bumpers();
   }
+  {
+    PhaseTimer t(profile, ph_cameras);
+    update_cameras();
+  }
 }
 
 void World::step() {
@@ -172,6 +176,9 @@ void World::set_wanted(SensorRef s, bool wanted) {
     case SensorKind::Bumper:
       e.bumpers.at(s.index).wanted = wanted;
       break;
+    case SensorKind::Camera:
+      e.cameras.at(s.index).wanted = wanted;
+      break;
   }
 }
 
@@ -185,6 +192,8 @@ bool World::wanted(SensorRef s) const {
       return e_->fiducials.at(s.index).wanted;
     case SensorKind::Bumper:
       return e_->bumpers.at(s.index).wanted;
+    case SensorKind::Camera:
+      return e_->cameras.at(s.index).wanted;
   }
   return false;
 }
@@ -199,6 +208,8 @@ RobotId World::owner(SensorRef s) const {
       return e_->fiducials.at(s.index).robot;
     case SensorKind::Bumper:
       return e_->bumpers.at(s.index).robot;
+    case SensorKind::Camera:
+      return e_->cameras.at(s.index).robot;
   }
   throw std::out_of_range("sensor kind");
 }
@@ -290,6 +301,25 @@ size_t World::memory_bytes() const {
   return e.map.memory_bytes() + e.hash.memory_bytes() + e.bodies.capacity() * sizeof(Body) +
          e.verts.capacity() * sizeof(Vec2) + e.ranges.capacity() * 8 +
          e.transducers.capacity() * sizeof(Transducer);
+}
+
+const CameraDesc& World::camera_desc(uint32_t index) const {
+  RobotId r = e_->cameras.at(index).robot;
+  return e_->desc.robots[r].cameras[index - e_->info[r].cameras.first];
+}
+
+CameraView World::camera(uint32_t index) const {
+  const CameraState& s = e_->cameras.at(index);
+  return {s.width, s.height, s.rgb, s.depth, s.step};
+}
+
+bool World::set_camera_size(uint32_t index, int width, int height) {
+  if (width < 1 || height < 1 || width > kMaxCameraSide || height > kMaxCameraSide) return false;
+  RobotId r = e_->cameras.at(index).robot;
+  CameraDesc& d = e_->desc.robots[r].cameras[index - e_->info[r].cameras.first];
+  d.width = width;
+  d.height = height;
+  return true;
 }
 
 }  // namespace troupe::sim

@@ -33,7 +33,7 @@ struct Engine;
 /// the world's life (robots are never added or removed after load).
 using RobotId = uint32_t;
 
-enum class SensorKind : uint8_t { Ranger, Blobfinder, Fiducial, Bumper };
+enum class SensorKind : uint8_t { Ranger, Blobfinder, Fiducial, Bumper, Camera };
 
 /// One sensor of the world: its kind and its index among that kind's
 /// sensors (world-wide; a robot's are contiguous, see RobotInfo).
@@ -51,7 +51,7 @@ struct IndexRange {
 /// What a robot carries, by world-wide sensor index.
 struct RobotInfo {
   std::string name;
-  IndexRange rangers, blobfinders, fiducials, bumpers;
+  IndexRange rangers, blobfinders, fiducials, bumpers, cameras;
   bool has_power = false;
 };
 
@@ -127,6 +127,18 @@ struct FiducialView {
 struct BumperView {
   uint32_t pressed = 0;  // bit i: segment i touches something
   uint32_t count = 0;
+  uint64_t step = UINT64_MAX;
+};
+
+/// A camera's latest rendering: both images, row by row from the top row,
+/// each row left to right.
+struct CameraView {
+  int width = 0, height = 0;  // px
+  /// width x height x 3 bytes: red, green, blue.
+  std::span<const uint8_t> rgb;
+  /// width x height distances along each pixel's ray, m; +infinity where
+  /// nothing (floor included) is within the camera's far range.
+  std::span<const float> depth;
   uint64_t step = UINT64_MAX;
 };
 
@@ -217,6 +229,11 @@ class World {
   FiducialView fiducial(uint32_t index) const;
   const BumperDesc& bumper_desc(uint32_t index) const;
   BumperView bumper(uint32_t index) const;
+  const CameraDesc& camera_desc(uint32_t index) const;
+  CameraView camera(uint32_t index) const;
+  /// Changes a camera's image size (1..kMaxCameraSide px each way; false
+  /// and nothing changed otherwise). The next rendering has the new size.
+  bool set_camera_size(uint32_t index, int width, int height);
 
   // ---- Inspection ------------------------------------------------------------
 

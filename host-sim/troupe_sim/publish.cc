@@ -1,14 +1,24 @@
 // The data messages of the simulated devices.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <string>
+
+#include "wire/image.h"
+#include "wire/log.h"
 
 #include "host-sim/troupe_sim/sim_server.h"
 
 namespace troupe::sim {
 
 void SimServer::publish() {
-  for (const Device& d : devices_) {
-    if (node_->has_readers(d.id)) publish_one(d);
+  for (Device& d : devices_) {
+    if (!node_->has_readers(d.id)) continue;
+    if (d.kind == Kind::Camera) {
+      publish_camera(d);
+    } else {
+      publish_one(d);
+    }
   }
 }
 
@@ -34,10 +44,20 @@ void SimServer::on_read_start(DeviceId id) {
     case Kind::Bumper:
       computed_at = world_.bumper(d->index).step;
       break;
+    case Kind::Camera:
+      computed_at = world_.camera(d->index).step;
+      break;
     default:
       break;
   }
-  if (computed_at == world_.steps()) publish_one(*d);
+  if (computed_at != world_.steps()) return;
+  if (d->kind == Kind::Camera) {
+    Device& cam = devices_[id - first_];
+    cam.last_image = -1;  // a new reader gets an image now, whatever the rate
+    publish_camera(cam);
+  } else {
+    publish_one(*d);
+  }
 }
 
 void SimServer::publish_one(const Device& d) {
@@ -59,6 +79,8 @@ void SimServer::publish_one(const Device& d) {
       break;
     case Kind::Power:
       publish_power(d);
+      break;
+    case Kind::Camera:  // publish_camera(): it keeps state per device
       break;
     case Kind::Simulation:
       publish_clock(d);
@@ -137,6 +159,59 @@ void SimServer::publish_bumper(const Device& d) {
   auto& b = node_->begin();
   auto body = wire::CreateBumperState(b, v.pressed, uint8_t(std::min<uint32_t>(v.count, 255)));
   node_->publish(d.id, uint8_t(wire::BumperDataSub::State), wire::Body::BumperState, body.Union());
+}
+
+void SimServer::publish_camera(Device& d) {
+  const CameraView v = world_.camera(d.index);
+  if (v.step == UINT64_MAX || v.width == 0) return;
+  if (d.rate > 0 && d.last_image >= 0 && world_.time() - d.last_image < 1.0 / d.rate - 1e-9) return;
+  std::string why;
+  if (!wire::image_fits(uint32_t(v.width), uint32_t(v.height), d.format, node_->options().limits.max_frame_bytes,
+                        why)) {
+    // Refused, never truncated; said once per configuration, not every step.
+    if (!d.refused_logged) log_error("troupe-sim: camera of robot %s: %s", world_.robot(d.robot).name.c_str(), why.c_str());
+    d.refused_logged = true;
+    return;
+  }
+  const size_t n = size_t(v.width) * size_t(v.height);
+  const size_t bpp = wire::bytes_per_pixel(d.format);
+  scratch_pixels_.resize(n * bpp);
+  uint8_t* out = scratch_pixels_.data();
+  switch (d.format) {
+    case wire::PixelFormat::Rgb8:
+      std::copy(v.rgb.begin(), v.rgb.end(), out);
+      break;
+    case wire::PixelFormat::Mono8:
+      // Rec. 601 luma in integers, so every host gives the same bytes.
+      for (size_t i = 0; i < n; ++i) {
+        const uint8_t* p = v.rgb.data() + 3 * i;
+        out[i] = uint8_t((299u * p[0] + 587u * p[1] + 114u * p[2] + 500u) / 1000u);
+      }
+      break;
+    case wire::PixelFormat::DepthF32:
+      for (size_t i = 0; i < n; ++i) {
+        uint32_t bits;
+        std::memcpy(&bits, &v.depth[i], 4);
+        for (int k = 0; k < 4; ++k) out[4 * i + size_t(k)] = uint8_t(bits >> (8 * k));  // little-endian
+      }
+      break;
+    case wire::PixelFormat::DepthU16:
+      for (size_t i = 0; i < n; ++i) {
+        const float m = v.depth[i];
+        const long mm = std::isfinite(m) ? std::lround(double(m) * 1000) : 0;
+        const uint16_t q = mm > 65535 ? 0 : uint16_t(mm);  // beyond 16 bits: "nothing", as the schema says
+        out[2 * i] = uint8_t(q);
+        out[2 * i + 1] = uint8_t(q >> 8);
+      }
+      break;
+  }
+  auto& b = node_->begin();
+  auto data = b.CreateVector(scratch_pixels_);
+  auto body = wire::CreateCameraImage(b, uint16_t(v.width), uint16_t(v.height), d.format,
+                                      uint32_t(size_t(v.width) * bpp), wire::ImageCompression::None, data);
+  // No stamp_us: the image is of this step, whose time the header carries.
+  node_->publish(d.id, uint8_t(wire::CameraDataSub::Image), wire::Body::CameraImage, body.Union());
+  d.last_image = world_.time();
 }
 
 void SimServer::publish_power(const Device& d) {

@@ -54,6 +54,9 @@ bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
     for (uint32_t k = 0; k < info.bumpers.count; ++k) {
       add(node, Kind::Bumper, r, info.bumpers.first + k, wire::Interface::Bumper, uint16_t(k));
     }
+    for (uint32_t k = 0; k < info.cameras.count; ++k) {
+      add(node, Kind::Camera, r, info.cameras.first + k, wire::Interface::Camera, uint16_t(k));
+    }
     if (info.has_power) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
   }
   if (only_ < 0) {
@@ -70,6 +73,7 @@ bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
     if (d.kind == Kind::Blobfinder) d.pinned = world_.wanted({SensorKind::Blobfinder, d.index});
     if (d.kind == Kind::Fiducial) d.pinned = world_.wanted({SensorKind::Fiducial, d.index});
     if (d.kind == Kind::Bumper) d.pinned = world_.wanted({SensorKind::Bumper, d.index});
+    if (d.kind == Kind::Camera) d.pinned = world_.wanted({SensorKind::Camera, d.index});
   }
   return true;
 }
@@ -95,6 +99,9 @@ bool SimServer::sync_wanted() {
         break;
       case Kind::Bumper:
         kind = SensorKind::Bumper;
+        break;
+      case Kind::Camera:
+        kind = SensorKind::Camera;
         break;
       default:
         continue;
@@ -139,6 +146,8 @@ void SimServer::on_request(DeviceId id, const wire::Message& req, RequestToken t
       return map_request(*d, req, token);
     case Kind::Ranger:
       return ranger_request(*d, req, token);
+    case Kind::Camera:
+      return camera_request(*d, req, token);
     case Kind::Fiducial:
       if (sub == uint8_t(wire::FiducialReqSub::Geometry)) {
         const FiducialDesc& f = world_.fiducial_desc(d->index);

@@ -1,6 +1,7 @@
 // Serves a simulated world over the wire: one runtime Driver that provides
 // every robot's devices (robot i, named by its world-file name:
-// position2d:0, ranger:k, blobfinder:k, fiducial:k, bumper:k, power:0) and
+// position2d:0, ranger:k, blobfinder:k, fiducial:k, bumper:k, camera:k,
+// power:0) and
 // the simulation:0 and map:0 devices (map:0: the static obstacles as an
 // occupancy grid, for viewers). Commands go to the robots; after every step the
 // data of each device that someone reads is published, and a sensor is
@@ -40,7 +41,7 @@ class SimServer final : public Driver, private SimulationModels {
   size_t device_count() const { return devices_.size(); }
 
  private:
-  enum class Kind : uint8_t { Position, Ranger, Blobfinder, Fiducial, Bumper, Power, Simulation, Map };
+  enum class Kind : uint8_t { Position, Ranger, Blobfinder, Fiducial, Bumper, Camera, Power, Simulation, Map };
   struct Device {
     DeviceId id = kNoDevice;
     Kind kind;
@@ -48,6 +49,11 @@ class SimServer final : public Driver, private SimulationModels {
     uint32_t index = 0;     // world-wide sensor index
     bool pinned = false;    // a controller wants it whether read or not
     bool motors_on = true;  // position2d only
+    // camera only: what its images carry (SetConfig chooses).
+    wire::PixelFormat format = wire::PixelFormat::Rgb8;
+    float rate = 0;                      // images per simulated second; 0: every step
+    double last_image = -1;              // simulated time of the last image sent, s
+    bool refused_logged = false;         // the too-large image was logged
   };
 
   void add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface, uint16_t local);
@@ -58,6 +64,7 @@ class SimServer final : public Driver, private SimulationModels {
   void publish_blobs(const Device& d);
   void publish_fiducials(const Device& d);
   void publish_bumper(const Device& d);
+  void publish_camera(Device& d);
   void publish_power(const Device& d);
   void publish_clock(const Device& d);
   void publish_poses(const Device& d);
@@ -71,6 +78,7 @@ class SimServer final : public Driver, private SimulationModels {
   void position_request(Device& d, const wire::Message& request, RequestToken token);
   void ranger_request(const Device& d, const wire::Message& request, RequestToken token);
   void map_request(const Device& d, const wire::Message& request, RequestToken token);
+  void camera_request(Device& d, const wire::Message& request, RequestToken token);
   /// Logs a command, teleport or odometry reset the world refused.
   void log_refused(const char* what, RobotId robot, const Pose& value);
 
@@ -82,6 +90,7 @@ class SimServer final : public Driver, private SimulationModels {
   std::vector<uint16_t> scratch_ranges_;
   std::vector<wire::Pose2d> scratch_poses_;
   std::vector<uint8_t> scratch_cells_;
+  std::vector<uint8_t> scratch_pixels_;
   uint64_t refused_ = 0;  // inputs the world refused, for log_refused()
 };
 

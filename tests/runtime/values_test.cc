@@ -89,7 +89,8 @@ class KinematicValues : public ::testing::Test {
   void SetUp() override {
     node_.add_device(Interface::Position2d, 0, new drivers::kinematic::Kinematic, "kinematic");
     for (Interface i : {Interface::Ranger, Interface::Bumper, Interface::Fiducial, Interface::Actuator,
-                        Interface::Localize, Interface::Map, Interface::Simulation, Interface::Opaque}) {
+                        Interface::Localize, Interface::Map, Interface::Simulation, Interface::Opaque,
+                        Interface::Camera}) {
       node_.add_device(i, 0, new Recorder);
     }
     node_.start();
@@ -138,7 +139,7 @@ TEST_F(KinematicValues, EveryFieldOfEveryCommandAndRequest) {
   EXPECT_TRUE(finite(p) && finite(base_->velocity()));
   std::vector<client::DeviceEntry> list;
   EXPECT_TRUE(client_->device_list(list));
-  EXPECT_EQ(list.size(), 9u);
+  EXPECT_EQ(list.size(), 10u);
 }
 
 // troupe-sim serves its robots through a Node, so the same check stands in

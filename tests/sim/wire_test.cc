@@ -6,8 +6,7 @@
 #include <cmath>
 #include <thread>
 
-#include "host-sim/troupe_sim/runner.h"
-#include "tests/sim/temp_dir.h"
+#include "tests/sim/served_world.h"
 #include "wire/client/proxies.h"
 
 namespace troupe::sim {
@@ -29,26 +28,9 @@ bot ( name "r0" pose [0 0 0 0] ranger ( sensor ( range [0 8] fov 180 samples 181
 bot ( name "r1" pose [-3 2 0 90] )
 )";
 
-class WireTest : public ::testing::Test {
+class WireTest : public test::ServedWorld {
  protected:
-  void SetUp() override {
-    SimOptions o;
-    o.world = dir_.write("w.world", kWorld);
-    o.port = 0;
-    o.paused = true;
-    world::Diagnostics d;
-    std::string error;
-    ASSERT_TRUE(runner_.init(o, d, error)) << d.str() << error;
-    thread_ = std::thread([this] { runner_.run(); });
-  }
-  void TearDown() override {
-    runner_.request_stop();
-    if (thread_.joinable()) thread_.join();
-  }
-
-  troupe::test::TempDir dir_;
-  Runner runner_;
-  std::thread thread_;
+  WireTest() : ServedWorld(kWorld) {}
 };
 
 TEST_F(WireTest, ListsEveryRobotsDevicesAndTheSimulation) {

@@ -44,6 +44,7 @@ flatbuffers::Offset<void> sample_body(flatbuffers::FlatBufferBuilder& b, Body ty
       auto plugin = b.CreateString("goalkeeper");
       return wire::CreateSimPlayer(b, robot, plugin, b.CreateVector(options)).Union();
     }
+    case Body::CameraConfig: return wire::CreateCameraConfig(b, 64, 48, 10.0f, wire::PixelFormat::DepthU16).Union();
     case Body::OpaqueBytes: return wire::CreateOpaqueBytes(b, b.CreateVector(std::vector<uint8_t>{1, 2, 3})).Union();
     default: return 0;
   }
@@ -70,7 +71,7 @@ std::vector<WireSample> wire_samples() {
   }
   {
     auto& b = w.start();
-    auto body = wire::CreateOpen(b, wire::Access::Read, wire::Delivery::Pull);
+    auto body = wire::CreateOpen(b, wire::Access::Read, wire::Delivery::Pull, wire::ImageCompression::Png);
     save("open", w.finish(wire::make_header(pos, wire::Kind::Open, 0, seq(), 5), Body::Open, body.Union()));
   }
   save("pull", w.empty(wire::make_header(pos, wire::Kind::Pull, 0, seq(), 5)));

@@ -129,6 +129,17 @@ std::string summary(const wire::Message& msg) {
       }
       return out;
     }
+    case wire::Body::CameraImage: {
+      // The pixels are not text: their size and a checksum tell images apart.
+      auto* s = msg.body_as_CameraImage();
+      const size_t n = s->data() ? s->data()->size() : 0;
+      uint32_t sum = 2166136261u;  // FNV-1a
+      for (size_t i = 0; i < n; ++i) sum = (sum ^ s->data()->Get(flatbuffers::uoffset_t(i))) * 16777619u;
+      append(out, " image=%ux%u format=%s stride=%u compression=%s bytes=%zu fnv=%08x", unsigned(s->width()),
+             unsigned(s->height()), wire::EnumNamePixelFormat(s->format()), unsigned(s->stride()),
+             wire::EnumNameImageCompression(s->compression()), n, unsigned(sum));
+      return out;
+    }
     case wire::Body::FiducialList: {
       auto* s = msg.body_as_FiducialList();
       size_t n = s->fiducials() ? s->fiducials()->size() : 0;

@@ -125,6 +125,52 @@ class BlobfinderProxy final : public Proxy {
   unsigned width_ = 0, height_ = 0;
 };
 
+/// The latest image of a camera device, as it came: pixels row by row
+/// (see wire/schemas/camera.fbs for the formats).
+struct Image {
+  unsigned width = 0, height = 0;  // px
+  wire::PixelFormat format = wire::PixelFormat::Rgb8;
+  unsigned stride = 0;  // bytes from one row to the next
+  wire::ImageCompression compression = wire::ImageCompression::None;
+  std::vector<uint8_t> data;
+  uint64_t stamp_us = 0;  // when it was taken, sender's clock, us
+};
+
+/// What a camera's geometry request tells: pose on the robot (m, rad),
+/// fields of view (rad), intrinsics (px) and range (m).
+struct CameraModel {
+  wire::Pose3d pose;
+  float hfov = 0, vfov = 0;
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  float near = 0, far = 0;
+};
+
+/// A camera's configuration: image size (px), images per second (Hz),
+/// pixel format.
+struct CameraSettings {
+  unsigned width = 0, height = 0;
+  float rate = 0;
+  wire::PixelFormat format = wire::PixelFormat::Rgb8;
+};
+
+class CameraProxy final : public Proxy {
+ public:
+  explicit CameraProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
+  const Image& image() const { return image_; }
+  /// Depth images: the distance at pixel (u, v) along its ray, m; infinity
+  /// where nothing is in range. NaN when the image is not a depth image or
+  /// (u, v) is outside it.
+  float depth(unsigned u, unsigned v) const;
+  bool geometry(CameraModel& out);
+  /// Asks for `want` (0 keeps a width, height or rate); `want` becomes
+  /// what the device took.
+  bool configure(CameraSettings& want);
+
+ private:
+  void update(const wire::Message& msg) override;
+  Image image_;
+};
+
 class FiducialProxy final : public Proxy {
  public:
   explicit FiducialProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);

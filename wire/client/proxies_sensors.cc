@@ -1,4 +1,7 @@
-// Proxies of sensors: ranger, power, bumper, blobfinder, fiducial, imu.
+// Proxies of sensors: ranger, power, bumper, blobfinder, camera, fiducial, imu.
+#include <cmath>
+#include <cstring>
+
 #include "wire/client/proxies.h"
 
 namespace troupe::client {
@@ -78,6 +81,75 @@ void BlobfinderProxy::update(const wire::Message& msg) {
   copy_structs(s->blobs(), blobs_);
   width_ = s->width();
   height_ = s->height();
+}
+
+CameraProxy::CameraProxy(Client& client, uint16_t index, uint16_t robot)
+    : Proxy(client, address_of(Interface::Camera, index, robot)) {
+  attach();
+}
+
+void CameraProxy::update(const wire::Message& msg) {
+  const wire::CameraImage* s = msg.body_as_CameraImage();
+  if (s == nullptr) return;
+  image_.width = s->width();
+  image_.height = s->height();
+  image_.format = s->format();
+  image_.stride = s->stride();
+  image_.compression = s->compression();
+  image_.stamp_us = s->stamp_us() != 0 ? s->stamp_us() : wire::time_us(*msg.header());
+  if (s->data()) {
+    image_.data.assign(s->data()->begin(), s->data()->end());
+  } else {
+    image_.data.clear();
+  }
+}
+
+float CameraProxy::depth(unsigned u, unsigned v) const {
+  const Image& im = image_;
+  if (im.compression != wire::ImageCompression::None || u >= im.width || v >= im.height) return NAN;
+  const size_t at = size_t(v) * im.stride;
+  if (im.format == wire::PixelFormat::DepthF32) {
+    if (at + (u + 1) * 4 > im.data.size()) return NAN;
+    // The wire is little-endian, as every host this library builds for.
+    float d;
+    std::memcpy(&d, im.data.data() + at + u * 4, 4);
+    return d;
+  }
+  if (im.format == wire::PixelFormat::DepthU16) {
+    if (at + (u + 1) * 2 > im.data.size()) return NAN;
+    const uint16_t mm = uint16_t(im.data[at + u * 2] | im.data[at + u * 2 + 1] << 8);
+    return mm == 0 ? INFINITY : float(mm) * 0.001f;
+  }
+  return NAN;
+}
+
+bool CameraProxy::geometry(CameraModel& out) {
+  Reply r = request(uint8_t(wire::CameraReqSub::Geometry));
+  const wire::CameraGeometry* g = r.ok() ? r.message()->body_as_CameraGeometry() : nullptr;
+  if (g == nullptr) return false;
+  if (g->pose()) out.pose = *g->pose();
+  out.hfov = g->hfov();
+  out.vfov = g->vfov();
+  out.fx = g->fx();
+  out.fy = g->fy();
+  out.cx = g->cx();
+  out.cy = g->cy();
+  out.near = g->near();
+  out.far = g->far();
+  return true;
+}
+
+bool CameraProxy::configure(CameraSettings& want) {
+  auto& b = client().begin();
+  auto body = wire::CreateCameraConfig(b, uint16_t(want.width), uint16_t(want.height), want.rate, want.format);
+  Reply r = request(uint8_t(wire::CameraReqSub::SetConfig), wire::Body::CameraConfig, body.Union());
+  const wire::CameraConfig* c = r.ok() ? r.message()->body_as_CameraConfig() : nullptr;
+  if (c == nullptr) return false;
+  want.width = c->width();
+  want.height = c->height();
+  want.rate = c->rate();
+  want.format = c->format();
+  return true;
 }
 
 FiducialProxy::FiducialProxy(Client& client, uint16_t index, uint16_t robot)

@@ -126,6 +126,29 @@ std::vector<Row> rows() {
                           }),
                    true});
   }
+  // Player's camera data: width, height, bpp, format, fdiv, compression
+  // (6x4), image_count 4, then the bytes (XDR count 4 + bytes padded to 4).
+  struct Shot {
+    uint16_t w, h;
+    PixelFormat format;
+    const char* name;
+  };
+  for (const Shot& s : {Shot{320, 240, PixelFormat::Rgb8, "320x240 RGB8 image"},
+                        Shot{320, 240, PixelFormat::DepthU16, "320x240 depth (u16 mm)"},
+                        Shot{640, 480, PixelFormat::Mono8, "640x480 MONO8 image"}}) {
+    const size_t bpp = s.format == PixelFormat::Rgb8 ? 3 : s.format == PixelFormat::DepthU16 ? 2 : 1;
+    const size_t bytes = size_t(s.w) * s.h * bpp;
+    out.push_back({"camera", s.name, kPlayerHeader + 24 + 4 + 4 + pad4(bytes),
+                   "40 + width..compression 6x4 + image_count 4 + bytes 4 + " + n(bytes) + " bytes",
+                   framed(Interface::Camera, Body::CameraImage,
+                          [&](auto& b) {
+                            std::vector<uint8_t> pixels(bytes, 0x41);
+                            auto data = b.CreateVector(pixels);
+                            return CreateCameraImage(b, s.w, s.h, s.format, uint32_t(s.w * bpp),
+                                                     ImageCompression::None, data);
+                          }),
+                   true});
+  }
   return out;
 }
 

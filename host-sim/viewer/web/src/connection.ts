@@ -43,7 +43,7 @@ export type DataHandler = (msg: W.Message, addr: Address) => void;
 
 export const ifaceNames: Record<number, string> = {
   1: 'position2d', 2: 'ranger', 3: 'power', 4: 'bumper', 5: 'blobfinder', 6: 'fiducial', 7: 'actuator',
-  8: 'imu', 9: 'localize', 10: 'map', 11: 'simulation', 12: 'opaque',
+  8: 'imu', 9: 'localize', 10: 'map', 11: 'simulation', 12: 'opaque', 13: 'camera',
 };
 
 export function addrKey(a: Address): string {
@@ -198,7 +198,7 @@ export class Connection {
   async open(addr: Address, access: W.Access = W.Access.Read): Promise<void> {
     const seq = this.seq++;
     const reply = this.expect(seq);
-    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push)]);
+    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push, W.ImageCompression.None)]);
     await reply;
   }
 

@@ -1,0 +1,33 @@
+#include "wire/image.h"
+
+#include <cstdio>
+
+namespace troupe::wire {
+
+size_t bytes_per_pixel(PixelFormat format) {
+  switch (format) {
+    case PixelFormat::Rgb8: return 3;
+    case PixelFormat::Mono8: return 1;
+    case PixelFormat::DepthF32: return 4;
+    case PixelFormat::DepthU16: return 2;
+  }
+  return 0;
+}
+
+size_t image_frame_bytes(uint32_t width, uint32_t height, PixelFormat format) {
+  return size_t(width) * size_t(height) * bytes_per_pixel(format) + kImageEnvelopeBytes;
+}
+
+bool image_fits(uint32_t width, uint32_t height, PixelFormat format, size_t max_frame_bytes, std::string& why) {
+  const size_t need = image_frame_bytes(width, height, format);
+  if (bytes_per_pixel(format) != 0 && need <= max_frame_bytes) return true;
+  char text[200];
+  snprintf(text, sizeof text,
+           "a %ux%u %s image needs a %zu-byte frame, over the %zu-byte frame limit: it is not sent (ask for "
+           "fewer pixels or a smaller format)",
+           unsigned(width), unsigned(height), EnumNamePixelFormat(format), need, max_frame_bytes);
+  why = text;
+  return false;
+}
+
+}  // namespace troupe::wire
