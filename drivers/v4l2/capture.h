@@ -19,7 +19,7 @@ namespace troupe::drivers::v4l2 {
 
 /// What the driver asks a camera for.
 struct CaptureRequest {
-  std::string device;  // e.g. "/dev/video0"
+  std::string device;              // e.g. "/dev/video0"
   uint32_t width = 0, height = 0;  // px
   float rate = 0;                  // images per second
   /// Formats acceptable, in order of preference (the first the camera lists).
@@ -68,7 +68,7 @@ class Capture {
   Fourcc format() const { return format_; }
   uint32_t width() const { return width_; }    // px
   uint32_t height() const { return height_; }  // px
-  size_t stride() const { return stride_; }     // bytes per row
+  size_t stride() const { return stride_; }    // bytes per row
   bool full_range() const { return full_range_; }
   /// Images per second in force (0: the camera does not say).
   float rate() const { return rate_; }

@@ -61,7 +61,8 @@ bool read_options(const Options& o, size_t max_frame_bytes, CameraOptions& out, 
     return false;
   }
   if (!(o.rate() > 0 && o.rate() <= wire::kMaxImageRate)) {
-    error = "option \"rate\": images per second, more than 0 and at most 1000, not " + std::to_string(o.rate());
+    error =
+        "option \"rate\": images per second, more than 0 and at most 1000, not " + std::to_string(o.rate());
     return false;
   }
   out.rate = o.rate();
@@ -126,7 +127,8 @@ bool read_options(const Options& o, size_t max_frame_bytes, CameraOptions& out, 
 
 bool V4l2Camera::setup(Node& node, const DriverSetup& setup, std::string& error) {
   name_ = setup.name;
-  if (setup.provides.size() != 1 || node.address(setup.provides[0]).iface() != uint16_t(wire::Interface::Camera)) {
+  if (setup.provides.size() != 1 ||
+      node.address(setup.provides[0]).iface() != uint16_t(wire::Interface::Camera)) {
     error = "v4l2 provides exactly one camera device";
     return false;
   }
@@ -158,10 +160,10 @@ bool V4l2Camera::start(std::string& error) {
   if (!capture_.open(req, error, gone)) return false;
   // The camera may give a larger image than asked for; one that cannot be
   // sent is refused here, never truncated.
-  if (!image_size_ok(capture_.width(), capture_.height(), want_.format, node_->options().limits.max_frame_bytes,
-                     error)) {
-    error = want_.device + " gives " + std::to_string(capture_.width()) + "x" + std::to_string(capture_.height()) +
-            ": " + error;
+  if (!image_size_ok(capture_.width(), capture_.height(), want_.format,
+                     node_->options().limits.max_frame_bytes, error)) {
+    error = want_.device + " gives " + std::to_string(capture_.width()) + "x" +
+            std::to_string(capture_.height()) + ": " + error;
     capture_.close();
     return false;
   }
@@ -287,8 +289,8 @@ void V4l2Camera::on_request(DeviceId device, const wire::Message& req, RequestTo
       const float fy = 0.5f * h / std::tan(0.5f * vfov);
       auto& b = node_->begin();
       wire::Pose3d pose(want_.pose_x, want_.pose_y, want_.pose_z, 0, want_.pose_pitch, want_.pose_yaw);
-      auto body = wire::CreateCameraGeometry(b, &pose, want_.hfov, vfov, fx, fy, 0.5f * w, 0.5f * h, want_.near,
-                                             want_.far);
+      auto body = wire::CreateCameraGeometry(b, &pose, want_.hfov, vfov, fx, fy, 0.5f * w, 0.5f * h,
+                                             want_.near, want_.far);
       return node_->ack(token, wire::Body::CameraGeometry, body.Union());
     }
     case Sub::GetConfig:
@@ -308,8 +310,8 @@ void V4l2Camera::reply_config(RequestToken token) {
   // The rate in force: the camera's, capped by the one asked for.
   const float rate = capture_.rate() > 0 ? std::min(capture_.rate(), want_.rate) : want_.rate;
   auto& b = node_->begin();
-  auto body =
-      wire::CreateCameraConfig(b, uint16_t(capture_.width()), uint16_t(capture_.height()), rate, want_.format);
+  auto body = wire::CreateCameraConfig(b, uint16_t(capture_.width()), uint16_t(capture_.height()), rate,
+                                       want_.format);
   node_->ack(token, wire::Body::CameraConfig, body.Union());
 }
 

@@ -50,9 +50,10 @@ TEST_F(CameraOptions, BadValuesStopTheNodeNamingTheOption) {
 TEST_F(CameraOptions, GoodValuesStart) {
   NodeUnderTest node;
   std::string error;
-  EXPECT_TRUE(node.start(camera_config(kAbsent + R"(, "width": 320, "height": 240, "rate": 5, "format": "Mono8",
+  EXPECT_TRUE(
+      node.start(camera_config(kAbsent + R"(, "width": 320, "height": 240, "rate": 5, "format": "Mono8",
     "capture_format": "Yuyv", "buffers": 2, "hfov": 1.2, "near": 0.1, "far": 20)"),
-                         error))
+                 error))
       << error;
 }
 

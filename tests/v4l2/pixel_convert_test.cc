@@ -62,8 +62,8 @@ TEST(PixelConvert, EveryCodeWithinOneOfTheFormula) {
           ycbcr_to_rgb(uint8_t(y), uint8_t(cb), uint8_t(cr), full, got);
           reference(y, cb, cr, full, want);
           for (int i = 0; i < 3; ++i) {
-            ASSERT_LE(std::fabs(got[i] - want[i]), 1.0)
-                << "Y'CbCr " << y << " " << cb << " " << cr << (full ? " full" : " limited") << " channel " << i;
+            ASSERT_LE(std::fabs(got[i] - want[i]), 1.0) << "Y'CbCr " << y << " " << cb << " " << cr
+                                                        << (full ? " full" : " limited") << " channel " << i;
           }
         }
       }
@@ -91,13 +91,13 @@ TEST(PixelConvert, Luma) {
 TEST(PixelConvert, YuyvImageWithPaddedRows) {
   const uint8_t pad = 0xEE;
   const std::vector<uint8_t> in = {
-      235, 128, 16, 128, 81, 90, 81, 240, pad, pad, pad, pad,  // white, black | red, red
+      235, 128, 16,  128, 81, 90,  81,  240, pad, pad, pad, pad,  // white, black | red, red
       126, 128, 126, 128, 16, 128, 235, 128, pad, pad, pad, pad,
   };
   std::vector<uint8_t> rgb(4 * 2 * 3, 0x55);
   convert_image(Fourcc::Yuyv, in.data(), 12, 4, 2, false, true, rgb.data());
-  const std::vector<uint8_t> want_rgb = {255, 255, 255, 0, 0, 0, 254, 0, 0, 254, 0, 0,
-                                         128, 128, 128, 128, 128, 128, 0, 0, 0, 255, 255, 255};
+  const std::vector<uint8_t> want_rgb = {255, 255, 255, 0,   0,   0,   254, 0, 0, 254, 0,   0,
+                                         128, 128, 128, 128, 128, 128, 0,   0, 0, 255, 255, 255};
   EXPECT_EQ(rgb, want_rgb);
   std::vector<uint8_t> grey(8, 0x55);
   convert_image(Fourcc::Yuyv, in.data(), 12, 4, 2, false, false, grey.data());
@@ -106,8 +106,8 @@ TEST(PixelConvert, YuyvImageWithPaddedRows) {
 }
 
 TEST(PixelConvert, Rgb24AndGreyWithPaddedRows) {
-  const std::vector<uint8_t> rgb_in = {255, 0, 0, 0, 255, 0, 9, 9,  // red, green, padding
-                                       0, 0, 255, 10, 20, 30, 9, 9};
+  const std::vector<uint8_t> rgb_in = {255, 0, 0,   0,  255, 0,  9, 9,  // red, green, padding
+                                       0,   0, 255, 10, 20,  30, 9, 9};
   std::vector<uint8_t> out(2 * 2 * 3);
   convert_image(Fourcc::Rgb24, rgb_in.data(), 8, 2, 2, false, true, out.data());
   EXPECT_EQ(out, (std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30}));

@@ -20,8 +20,8 @@ std::string env(const char* name) {
   return v ? v : "";
 }
 
-#define REQUIRE_VIVID()                                         \
-  if (env("TROUPE_TEST_VIDEO_DEVICE").empty())                  \
+#define REQUIRE_VIVID()                                              \
+  if (env("TROUPE_TEST_VIDEO_DEVICE").empty())                       \
   GTEST_SKIP() << "needs the kernel's vivid (the vcan VM test sets " \
                   "TROUPE_TEST_VIDEO_DEVICE)"
 
