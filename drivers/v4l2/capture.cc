@@ -33,32 +33,24 @@ int xioctl(int fd, unsigned long request, void* arg) {
   return r;
 }
 
-// Errors that mean the camera is gone (unplugged, driver unbound), not that
-// it refused: the driver then waits for it to come back.
-bool is_gone(int err) {
-  return err == ENODEV || err == ENOENT || err == ENXIO || err == EIO;
-}
-
 }  // namespace
 
-bool Capture::fail(const std::string& step, std::string& error, bool& gone) {
+bool Capture::fail(const std::string& step, std::string& error) {
   const int err = errno;
   error = device_ + ": " + step + ": " + std::strerror(err);
-  gone = is_gone(err);
   close();
   return false;
 }
 
-bool Capture::open(const CaptureRequest& want, std::string& error, bool& gone) {
+bool Capture::open(const CaptureRequest& want, std::string& error) {
   close();
-  gone = false;
   device_ = want.device;
   fd_ = ::open(want.device.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
-  if (fd_ < 0) return fail("open", error, gone);
+  if (fd_ < 0) return fail("open", error);
 
   v4l2_capability cap{};
   if (xioctl(fd_, VIDIOC_QUERYCAP, &cap) < 0)
-    return fail("VIDIOC_QUERYCAP (not a V4L2 device?)", error, gone);
+    return fail("VIDIOC_QUERYCAP (not a V4L2 device?)", error);
   const uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
   if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
     error = device_ + ": not a single-planar video capture device with streaming I/O (" +
@@ -96,7 +88,7 @@ bool Capture::open(const CaptureRequest& want, std::string& error, bool& gone) {
   fmt.fmt.pix.height = want.height;
   fmt.fmt.pix.pixelformat = fourcc_code(format_);
   fmt.fmt.pix.field = V4L2_FIELD_NONE;
-  if (xioctl(fd_, VIDIOC_S_FMT, &fmt) < 0) return fail("VIDIOC_S_FMT", error, gone);
+  if (xioctl(fd_, VIDIOC_S_FMT, &fmt) < 0) return fail("VIDIOC_S_FMT", error);
   if (fmt.fmt.pix.pixelformat != fourcc_code(format_) || fmt.fmt.pix.width == 0 || fmt.fmt.pix.height == 0 ||
       (format_ == Fourcc::Yuyv && fmt.fmt.pix.width % 2 != 0)) {
     error = device_ + ": the camera changed the format asked for into one the driver cannot read";
@@ -133,10 +125,10 @@ bool Capture::open(const CaptureRequest& want, std::string& error, bool& gone) {
   req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   req.memory = V4L2_MEMORY_MMAP;
   if (xioctl(fd_, VIDIOC_REQBUFS, &req) < 0)
-    return fail("VIDIOC_REQBUFS (memory-mapped streaming)", error, gone);
+    return fail("VIDIOC_REQBUFS (memory-mapped streaming)", error);
   if (req.count < 2) {
     errno = ENOMEM;
-    return fail("VIDIOC_REQBUFS gave fewer than 2 buffers", error, gone);
+    return fail("VIDIOC_REQBUFS gave fewer than 2 buffers", error);
   }
   buffer_count_ = req.count > kMaxBuffers ? kMaxBuffers : req.count;
   for (uint32_t i = 0; i < buffer_count_; ++i) {
@@ -144,14 +136,14 @@ bool Capture::open(const CaptureRequest& want, std::string& error, bool& gone) {
     buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     buf.memory = V4L2_MEMORY_MMAP;
     buf.index = i;
-    if (xioctl(fd_, VIDIOC_QUERYBUF, &buf) < 0) return fail("VIDIOC_QUERYBUF", error, gone);
+    if (xioctl(fd_, VIDIOC_QUERYBUF, &buf) < 0) return fail("VIDIOC_QUERYBUF", error);
     void* p = mmap(nullptr, buf.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, buf.m.offset);
-    if (p == MAP_FAILED) return fail("mmap", error, gone);
+    if (p == MAP_FAILED) return fail("mmap", error);
     buffers_[i] = {p, buf.length};
-    if (xioctl(fd_, VIDIOC_QBUF, &buf) < 0) return fail("VIDIOC_QBUF", error, gone);
+    if (xioctl(fd_, VIDIOC_QBUF, &buf) < 0) return fail("VIDIOC_QBUF", error);
   }
   v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-  if (xioctl(fd_, VIDIOC_STREAMON, &type) < 0) return fail("VIDIOC_STREAMON", error, gone);
+  if (xioctl(fd_, VIDIOC_STREAMON, &type) < 0) return fail("VIDIOC_STREAMON", error);
   streaming_ = true;
   return true;
 }

@@ -49,9 +49,8 @@ class Capture {
   Capture& operator=(const Capture&) = delete;
 
   /// Opens, negotiates and starts streaming. False with `error` naming the
-  /// device and the step that failed; `gone` is set when the device is not
-  /// there (no such node, ENODEV) rather than refusing.
-  bool open(const CaptureRequest& want, std::string& error, bool& gone);
+  /// device, the step that failed and the kernel's reason.
+  bool open(const CaptureRequest& want, std::string& error);
   /// Stops streaming, unmaps, closes. Safe to call when closed.
   void close();
   bool is_open() const { return fd_ >= 0; }
@@ -74,7 +73,7 @@ class Capture {
   float rate() const { return rate_; }
 
  private:
-  bool fail(const std::string& step, std::string& error, bool& gone);
+  bool fail(const std::string& step, std::string& error);
 
   int fd_ = -1;
   std::string device_;

@@ -156,8 +156,7 @@ bool V4l2Camera::start(std::string& error) {
   req.formats = want_.capture_formats;
   req.format_count = want_.capture_format_count;
   req.buffers = want_.buffers;
-  bool gone = false;
-  if (!capture_.open(req, error, gone)) return false;
+  if (!capture_.open(req, error)) return false;
   // The camera may give a larger image than asked for; one that cannot be
   // sent is refused here, never truncated.
   if (!image_size_ok(capture_.width(), capture_.height(), want_.format,
