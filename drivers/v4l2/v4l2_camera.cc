@@ -338,11 +338,13 @@ void V4l2Camera::set_config(const wire::Message& req, RequestToken token) {
   want_ = next;
   stop();
   if (start(why)) return reply_config(token);
-  // The camera refused the new settings: back to the ones that worked.
+  // The camera refused the new settings: back to the ones that worked. If
+  // it refuses those too, it failed rather than the request.
   want_ = before;
   std::string again;
-  if (!start(again)) lose(again);
-  node_->nack(token, wire::ErrorCode::BadArgument, why);
+  if (start(again)) return node_->nack(token, wire::ErrorCode::BadArgument, why);
+  lose(again);
+  node_->nack(token, wire::ErrorCode::DeviceFailed, "camera unavailable: " + again);
 }
 
 void V4l2Camera::shutdown() {
