@@ -49,8 +49,7 @@ bool Capture::open(const CaptureRequest& want, std::string& error) {
   if (fd_ < 0) return fail("open", error);
 
   v4l2_capability cap{};
-  if (xioctl(fd_, VIDIOC_QUERYCAP, &cap) < 0)
-    return fail("VIDIOC_QUERYCAP (not a V4L2 device?)", error);
+  if (xioctl(fd_, VIDIOC_QUERYCAP, &cap) < 0) return fail("VIDIOC_QUERYCAP (not a V4L2 device?)", error);
   const uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
   if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
     error = device_ + ": not a single-planar video capture device with streaming I/O (" +
@@ -124,8 +123,7 @@ bool Capture::open(const CaptureRequest& want, std::string& error) {
   req.count = want.buffers < 2 ? 2 : want.buffers > kMaxBuffers ? kMaxBuffers : want.buffers;
   req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   req.memory = V4L2_MEMORY_MMAP;
-  if (xioctl(fd_, VIDIOC_REQBUFS, &req) < 0)
-    return fail("VIDIOC_REQBUFS (memory-mapped streaming)", error);
+  if (xioctl(fd_, VIDIOC_REQBUFS, &req) < 0) return fail("VIDIOC_REQBUFS (memory-mapped streaming)", error);
   if (req.count < 2) {
     errno = ENOMEM;
     return fail("VIDIOC_REQBUFS gave fewer than 2 buffers", error);
