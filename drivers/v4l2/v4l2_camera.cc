@@ -217,8 +217,9 @@ void V4l2Camera::on_timer(TimerId) {
 void V4l2Camera::on_fd(int, uint32_t events) {
   if (state_ != State::Streaming) return;
   if (events & (EPOLLERR | EPOLLHUP)) {
-    // A device unplugged (or its driver unbound) reports an error on poll.
-    return lose(want_.device + ": the device reports an error (unplugged?)");
+    // A device unplugged (or its driver unbound), or whose queue failed,
+    // reports an error on poll.
+    return lose(want_.device + ": the device reports an error (a streaming error, or unplugged)");
   }
   std::string why;
   for (;;) {

@@ -6,6 +6,8 @@
 // garbage: eight bars across the image, left to right white, yellow, cyan,
 // green, magenta, red, blue, black, each channel either about 191 or 0.
 #include <fcntl.h>
+#include <linux/videodev2.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -77,6 +79,29 @@ std::string row_text(const wire::CameraImage* im) {
   std::string text = "row:";
   for (uint32_t x = 0; x < im->width(); x += im->width() / 32) text += " " + std::to_string(row[x * bpp]);
   return text;
+}
+
+// Presses one of vivid's button controls, found by its name, through a
+// second file handle of the device (the driver's keeps streaming). "" or
+// what failed.
+std::string press_vivid_button(const std::string& device, const std::string& name) {
+  const int fd = open(device.c_str(), O_RDWR);
+  if (fd < 0) return "cannot open " + device;
+  std::string error = "vivid has no control \"" + name + "\"";
+  v4l2_queryctrl q{};
+  q.id = V4L2_CTRL_FLAG_NEXT_CTRL;
+  while (ioctl(fd, VIDIOC_QUERYCTRL, &q) == 0) {
+    if (name == reinterpret_cast<const char*>(q.name)) {
+      v4l2_control c{};
+      c.id = q.id;
+      c.value = 1;
+      error = ioctl(fd, VIDIOC_S_CTRL, &c) == 0 ? "" : "VIDIOC_S_CTRL " + name + " failed";
+      break;
+    }
+    q.id |= V4L2_CTRL_FLAG_NEXT_CTRL;
+  }
+  close(fd);
+  return error;
 }
 
 class Vivid : public CameraBench {
@@ -156,6 +181,22 @@ TEST_F(Vivid, SetConfigRenegotiatesTheSize) {
   EXPECT_LE(m->body_as_CameraConfig()->rate(), 5.0f);
   ASSERT_TRUE(loop_.run_until([&] { return image() && image()->width() == 640; }, 60));
   EXPECT_EQ(check_bars(image(), 640, 360), "") << row_text(image());
+}
+
+// vivid's error injection: the capture queue fails (vb2_queue_error: poll
+// reports an error, DQBUF fails with EIO) while the device stays. The
+// driver closes it and opens it again; images resume.
+TEST_F(Vivid, FatalStreamingErrorReopensTheCamera) {
+  REQUIRE_VIVID();
+  ASSERT_TRUE(start(device_options(R"("width": 640, "height": 480)"))) << error();
+  ASSERT_TRUE(images(2));
+  ASSERT_EQ(press_vivid_button(env("TROUPE_TEST_VIDEO_DEVICE"), "Inject Fatal Streaming Error"), "");
+  const uint32_t n = client_.count(kCamera);
+  ASSERT_TRUE(loop_.run_until([&] { return client_.count(kCamera) >= n + 5; }, 60))
+      << "images did not resume after the streaming error";
+  uint32_t w = 0, h = 0;
+  ASSERT_TRUE(config(w, h));
+  EXPECT_EQ(check_bars(image(), w, h), "") << row_text(image());
 }
 
 // Unbinding vivid's platform device is an unplug: the device node goes.
