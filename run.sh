@@ -146,11 +146,12 @@ run_tests() {
   say "running every test under AddressSanitizer and UBSan"
   ctest --preset host-asan -j "$(nproc)"
   # What cannot run under the sanitizers: the statically linked program that
-  # boots in a VM with a kernel CAN bus. Only its targets are built.
-  say "building what the kernel CAN test needs (preset host-release)"
+  # boots in a VM with a kernel CAN bus and the kernel's virtual camera
+  # (vivid). Only their targets are built.
+  say "building what the kernel VM tests need (preset host-release)"
   cmake --preset host-release >/dev/null
-  cmake --build --preset host-release -j "$(nproc)" --target odrive_vcan_test
-  say "running the kernel CAN bus test in a VM"
+  cmake --build --preset host-release -j "$(nproc)" --target odrive_vcan_test v4l2_vivid_test
+  say "running the kernel CAN bus and V4L2 camera tests in a VM"
   ctest --test-dir build/host-release -L vcan --output-on-failure
 }
 

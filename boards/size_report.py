@@ -47,6 +47,7 @@ ROWS = [
     ("core", "aarch64-linux-gnu", None, False, True),
     ("core", "powerpc-linux-gnu", None, False, True),
     ("pioneer-p3dx", None, None, False, None),
+    ("camera", None, None, False, None),
     ("diffbot-can", None, None, False, None),
     ("ppc-node", None, None, False, None),
     ("desktop", None, None, False, None),

@@ -1,7 +1,7 @@
 # desktop: the desktop peer of a robot (x86-64 or whatever the host is). It
 # runs the abstract drivers that offload heavy work from the robot board:
 # remote devices passed through, localization, fusion, log replay, maps,
-# and the ROS 2 bridge.
+# the ROS 2 bridge, and a V4L2 camera (a webcam on the desktop peer).
 # Reads JSON node configs; builds only troupe-node (no tests, simulator).
 set(BOARD_TOOLCHAIN native)
 set(BOARD_BUILD_TYPE Release)
@@ -12,6 +12,7 @@ set(BOARD_DRIVERS
   fusion
   logreplay
   mapfile
+  v4l2
   ros2
 )
 set(BOARD_NODE_CONFIGS nodes/desktop.json nodes/ros2.json)

@@ -5,6 +5,7 @@ set(BOARD_DRIVERS
   odrive_can
   p2os
   sicklms200
+  v4l2
   logreplay
   mapfile
   mcl

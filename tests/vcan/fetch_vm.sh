@@ -2,7 +2,9 @@
 # Installs and downloads what the vcan test's VM needs, into OUT (a folder in
 # the build tree): Debian 12's qemu-system-x86, busybox-static, cpio and
 # iproute2 packages, and the kernel image package linux-image-amd64 depends
-# on, unpacked, from which it keeps the kernel and the four CAN modules.
+# on, unpacked, from which it keeps the kernel, the four CAN modules and the
+# twelve media modules of the kernel's virtual camera, vivid (in their load
+# order, written to modules/order.txt).
 # Run as root (or with sudo available) on a fresh Debian 12 machine.
 #
 #   tests/vcan/fetch_vm.sh OUT
@@ -29,7 +31,7 @@ if [ -n "$need" ]; then
   $as_root apt-get install -y -q --no-install-recommends $need
 fi
 
-if [ -f vmlinuz ] && [ -f modules/vcan.ko ]; then
+if [ -f vmlinuz ] && [ -f modules/vcan.ko ] && [ -f modules/vivid.ko ]; then
   echo "fetch_vm: kernel already in $out"
   exit 0
 fi
@@ -45,7 +47,15 @@ rm -rf deb unpacked && mkdir -p deb unpacked modules
 (cd deb && timeout 900 apt-get download "$image")
 dpkg-deb -x deb/*.deb unpacked
 cp unpacked/boot/vmlinuz-* vmlinuz
-for m in net/can/can.ko net/can/can-raw.ko drivers/net/can/dev/can-dev.ko drivers/net/can/vcan.ko; do
+# In insmod order: each after the modules its depends= line names.
+media=drivers/media
+: > modules/order.txt
+for m in net/can/can.ko net/can/can-raw.ko drivers/net/can/dev/can-dev.ko drivers/net/can/vcan.ko \
+  $media/mc/mc.ko $media/v4l2-core/videodev.ko $media/common/videobuf2/videobuf2-common.ko \
+  $media/common/videobuf2/videobuf2-v4l2.ko $media/common/videobuf2/videobuf2-memops.ko \
+  $media/common/videobuf2/videobuf2-vmalloc.ko $media/common/videobuf2/videobuf2-dma-contig.ko \
+  $media/v4l2-core/v4l2-dv-timings.ko $media/rc/rc-core.ko $media/cec/core/cec.ko \
+  $media/common/v4l2-tpg/v4l2-tpg.ko $media/test-drivers/vivid/vivid.ko; do
   found=$(find unpacked/lib/modules -path "*/kernel/$m*" | head -n 1)
   [ -n "$found" ] || { echo "fetch_vm: $image has no $m" >&2; exit 1; }
   case "$found" in
@@ -53,7 +63,8 @@ for m in net/can/can.ko net/can/can-raw.ko drivers/net/can/dev/can-dev.ko driver
     *.zst) zstd -dqc "$found" > "modules/$(basename "$m")" ;;
     *) cp "$found" "modules/$(basename "$m")" ;;
   esac
+  basename "$m" .ko >> modules/order.txt
 done
 echo "$image" > kernel-package.txt
 rm -rf deb unpacked
-echo "fetch_vm: kernel $(cat kernel-package.txt) and CAN modules in $out"
+echo "fetch_vm: kernel $(cat kernel-package.txt), CAN and vivid modules in $out"

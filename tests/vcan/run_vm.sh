@@ -1,13 +1,16 @@
 #!/bin/sh
 # Boots a Debian kernel in qemu (software emulation, no KVM) with vcan0 up
-# and runs a statically linked test program in it; exits 0 when the program
-# passed. The console goes to OUT/console.log.
+# and the kernel's virtual camera vivid loaded (/dev/video0, its platform
+# device vivid.0), and runs a statically linked test program in it; exits 0
+# when the program passed. The console goes to OUT/console.log. With
+# TROUPE_VM_NEEDS_VIDEO=1 a VM without /dev/video0 fails the test.
 #
 #   tests/vcan/run_vm.sh OUT TEST_PROGRAM [ARGS...]
 #
 # OUT holds the kernel and modules (fetched by fetch_vm.sh when missing) and
 # the initramfs built here: busybox-static, /sbin/ip with its libraries (the
-# busybox ip cannot create vcan links), the CAN modules and the program.
+# busybox ip cannot create vcan links), the CAN and vivid modules (loaded in
+# the order fetch_vm.sh wrote) and the program.
 set -eu
 
 out=${1:?usage: run_vm.sh OUT TEST_PROGRAM [ARGS...]}
@@ -16,7 +19,7 @@ shift 2
 here=$(cd "$(dirname "$0")" && pwd)
 vm_timeout=${TROUPE_VCAN_TIMEOUT:-900}
 
-[ -f "$out/vmlinuz" ] && [ -f "$out/modules/vcan.ko" ] || "$here/fetch_vm.sh" "$out"
+[ -f "$out/vmlinuz" ] && [ -f "$out/modules/vcan.ko" ] && [ -f "$out/modules/vivid.ko" ] || "$here/fetch_vm.sh" "$out"
 for tool in qemu-system-x86_64 cpio gzip; do
   command -v "$tool" >/dev/null || { echo "run_vm: $tool is missing (run tests/vcan/fetch_vm.sh)" >&2; exit 1; }
 done
@@ -35,7 +38,7 @@ ldd /sbin/ip | awk '{for (i = 1; i <= NF; i++) if ($i ~ /^\//) print $i}' | whil
   mkdir -p "$root$(dirname "$lib")"
   cp -L "$lib" "$root$lib"
 done
-cp "$out"/modules/*.ko "$root/lib/modules/"
+cp "$out"/modules/*.ko "$out/modules/order.txt" "$root/lib/modules/"
 cp "$program" "$root/bin/test-program"
 
 args=""
@@ -47,11 +50,27 @@ export PATH=/bin:/sbin
 mount -t proc proc /proc
 mount -t sysfs sys /sys
 mount -t devtmpfs dev /dev 2>/dev/null
-for m in can can-raw can-dev vcan; do insmod /lib/modules/\$m.ko || echo "VCAN-SETUP: insmod \$m failed"; done
+# vivid: one instance with only a video capture node (/dev/video0), the
+# single-planar API.
+for m in \$(cat /lib/modules/order.txt); do
+  opts=""
+  [ \$m = vivid ] && opts="n_devs=1 node_types=0x1 multiplanar=1"
+  insmod /lib/modules/\$m.ko \$opts || echo "VM-SETUP: insmod \$m failed"
+done
 ip link set lo up
+video=""
+for i in 1 2 3 4 5; do
+  if [ -c /dev/video0 ] && [ -e /sys/bus/platform/drivers/vivid/vivid.0 ]; then
+    video=/dev/video0
+    echo "VIVID-SETUP: /dev/video0 up"
+    break
+  fi
+  sleep 1
+done
 if ip link add dev vcan0 type vcan && ip link set up vcan0; then
   echo "VCAN-SETUP: vcan0 up"
-  TROUPE_TEST_CAN_INTERFACE=vcan0 /bin/test-program $args
+  TROUPE_TEST_CAN_INTERFACE=vcan0 TROUPE_TEST_VIDEO_DEVICE=\$video TROUPE_TEST_VIVID_PLATFORM=vivid.0 \\
+    /bin/test-program $args
   echo "VCAN-EXIT: \$?"
 else
   echo "VCAN-SETUP: cannot create vcan0"
@@ -75,5 +94,9 @@ if [ $rc = 124 ] || [ $rc = 137 ]; then
   exit 1
 fi
 grep -q "VCAN-SETUP: vcan0 up" "$log" || { echo "run_vm: vcan0 was not set up" >&2; exit 1; }
+if [ "${TROUPE_VM_NEEDS_VIDEO:-0}" = 1 ] && ! grep -q "VIVID-SETUP: /dev/video0 up" "$log"; then
+  echo "run_vm: vivid's /dev/video0 did not appear" >&2
+  exit 1
+fi
 grep -q "VCAN-EXIT: 0" "$log" || { echo "run_vm: the test program failed in the VM" >&2; exit 1; }
 echo "run_vm: passed"
