@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <string_view>
 
 #include "flatbuffers/idl.h"
 #include "runtime/config_json.h"
@@ -6,7 +7,11 @@
 namespace troupe {
 namespace {
 
-bool line_mentions(const std::string& text, unsigned line, const char* word) {
+// True when line `line` (1-based) of `text` sets "driver_type" to `value`:
+// the parser names an unknown enum value without the key it was for, and
+// only an unknown driver type means a driver the board lacks (an option's
+// bad enum value, on the same line of a one-line config, does not).
+bool line_sets_driver_type(const std::string& text, unsigned line, const std::string& value) {
   size_t begin = 0;
   for (unsigned l = 1; l < line && begin != std::string::npos; ++l) {
     begin = text.find('\n', begin);
@@ -14,7 +19,14 @@ bool line_mentions(const std::string& text, unsigned line, const char* word) {
   }
   if (begin == std::string::npos) return false;
   size_t end = text.find('\n', begin);
-  return text.substr(begin, end == std::string::npos ? end : end - begin).find(word) != std::string::npos;
+  const std::string_view row = std::string_view(text).substr(begin, end == std::string::npos ? end : end - begin);
+  const std::string_view key = "\"driver_type\"";
+  for (size_t at = row.find(key); at != std::string_view::npos; at = row.find(key, at + 1)) {
+    size_t v = at + key.size();
+    while (v < row.size() && (row[v] == ' ' || row[v] == '\t' || row[v] == ':')) ++v;
+    if (row.substr(v).starts_with("\"" + value + "\"")) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -45,8 +57,9 @@ bool parse_node_config_json(const uint8_t* schema, size_t schema_size, const cha
     }
     // A driver type the union does not have is a driver this board lacks.
     const std::string unknown = "unknown enum value: ";
-    if (what.starts_with(unknown) && line_mentions(text, line, "driver_type")) {
-      error = where + ": driver '" + what.substr(unknown.size()) + "' is not compiled into board " + board +
+    const std::string value = what.starts_with(unknown) ? what.substr(unknown.size()) : "";
+    if (!value.empty() && line_sets_driver_type(text, line, value)) {
+      error = where + ": driver '" + value + "' is not compiled into board " + board +
               " (its drivers: " + board_drivers + ")";
     } else {
       error = where + ": " + what;

@@ -35,9 +35,10 @@ TEST_F(CameraOptions, BadValuesStopTheNodeNamingTheOption) {
       {kAbsent + R"(, "near": 2, "far": 1)", "\"near\" and \"far\""},
       {kAbsent + R"(, "frame_timeout_ms": 100)", "\"frame_timeout_ms\""},
       {kAbsent + R"(, "reopen_min_ms": 500, "reopen_max_ms": 100)", "\"reopen_max_ms\""},
-      // Enums are checked by the config parser itself, which names the value.
-      {kAbsent + R"(, "format": "DepthF32")", "DepthF32"},
-      {kAbsent + R"(, "capture_format": "MJPEG")", "MJPEG"},
+      // Enums are checked by the config parser itself, which names the value;
+      // on the driver_type's line it is still an option, not a driver.
+      {kAbsent + R"(, "format": "DepthF32")", "unknown enum value: DepthF32"},
+      {kAbsent + R"(, "capture_format": "MJPEG")", "unknown enum value: MJPEG"},
   };
   for (const Case& c : cases) {
     NodeUnderTest node;
