@@ -19,7 +19,8 @@ bool line_sets_driver_type(const std::string& text, unsigned line, const std::st
   }
   if (begin == std::string::npos) return false;
   size_t end = text.find('\n', begin);
-  const std::string_view row = std::string_view(text).substr(begin, end == std::string::npos ? end : end - begin);
+  const std::string_view row =
+      std::string_view(text).substr(begin, end == std::string::npos ? end : end - begin);
   const std::string_view key = "\"driver_type\"";
   for (size_t at = row.find(key); at != std::string_view::npos; at = row.find(key, at + 1)) {
     size_t v = at + key.size();
