@@ -4,8 +4,8 @@
 // (wheels hold them to it), so they push each other and pucks by impulses;
 // pucks keep what they are given and slow down by floor friction. Walls
 // stay in the static map: a body whose move would cross an obstacle cell
-// (the kinematic model's swept test) is put back and stopped, and a robot
-// so stopped stalls.
+// (the kinematic model's swept test) is put back and stopped, so is one
+// that would move into a body put back, and a robot so stopped stalls.
 #include <cmath>
 #include <string>
 
@@ -132,18 +132,38 @@ void Engine::rigid_integrate() {
 void Engine::rigid_collide() {
   RigidBodies& r = *rigid;
   robocup::World& w = r.world;
-  for (RobotId i = 0; i < bodies.size(); ++i) {
+  const size_t n = bodies.size();
+  // Moves into a wall are refused; then, until nothing changes, so are
+  // moves into a body whose move was refused (a puck pinned to a wall stops
+  // the robot pushing it, rather than letting the robot into it).
+  for (RobotId i = 0; i < n; ++i)
+    accept[i] = !bodies[i].moved || !hits_static(i, bodies[i].pose, bodies[i].proposed);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (RobotId i = 0; i < n; ++i) {
+      const Body& b = bodies[i];
+      if (!b.moved || !accept[i] || !b.obstacle) continue;
+      hash.query(hash_centres[i], hash_radii[i], [&](uint32_t j) {
+        if (!accept[i] || j == i || accept[j] || !bodies[j].obstacle) return;
+        if (overlaps_robot(i, b.proposed, j, bodies[j].pose)) {
+          accept[i] = 0;
+          changed = true;
+        }
+      });
+    }
+  }
+  for (RobotId i = 0; i < n; ++i) {
     Body& b = bodies[i];
     if (!b.moved) {
       b.stalled = false;
       continue;
     }
-    if (!hits_static(i, b.pose, b.proposed)) {
+    if (accept[i]) {
       b.pose = b.proposed;
       b.stalled = false;
       continue;
     }
-    // Into a wall: back where it was, stopped, as the kinematic model does.
+    // Back where it was, stopped, as the kinematic model does.
     b.blocked_at = b.proposed;
     b.proposed = b.pose;
     b.vel = {};
