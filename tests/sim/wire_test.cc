@@ -222,3 +222,56 @@ TEST(WirePortPerRobot, ASingleRobotClientAttachesToItsRobotsPort) {
 
 }  // namespace
 }  // namespace troupe::sim
+
+namespace troupe::sim {
+namespace {
+
+// A robot with a Stage gripper and a puck between its paddles: the gripper
+// is served as actuator:0, the puck as a position2d of its own.
+const char* kGripperWorld = R"(
+resolution 0.02
+interval_sim 100
+define puck model ( size [0.1 0.1 0.1] gripper_return 1 )
+position ( name "g" pose [0 0 0 0] size [0.4 0.4] localization "gps" localization_origin [0 0 0 0]
+  gripper ( pose [0.3 0 0 0] size [0.2 0.2 0.1] ) )
+puck ( pose [0.3 0 0 0] )
+)";
+
+class GripperWireTest : public test::ServedWorld {
+ protected:
+  GripperWireTest() : ServedWorld(kGripperWorld) {}
+};
+
+TEST_F(GripperWireTest, AClientClosesAndOpensTheGripperOnAPuck) {
+  client::Client c("127.0.0.1", runner_.port());
+  ASSERT_TRUE(c.connect()) << c.error();
+  std::vector<client::DeviceEntry> devices;
+  ASSERT_TRUE(c.device_list(devices));
+  std::vector<std::string> names;
+  for (const auto& d : devices) names.push_back(d.text());
+  EXPECT_EQ(names, (std::vector<std::string>{"g/position2d:0", "g/actuator:0", "puck0/position2d:0",
+                                             "simulation:0", "map:0"}));
+
+  client::ActuatorProxy gripper(c, 0, 0);
+  client::SimulationProxy sim(c);
+  ASSERT_TRUE(gripper.is_open() && sim.is_open());
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(c.sync());
+  EXPECT_EQ(gripper.mode(), wire::ActuatorMode::Open);
+  EXPECT_EQ(gripper.stored(), 0u);
+
+  ASSERT_TRUE(gripper.close());
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(c.sync());
+  EXPECT_EQ(gripper.mode(), wire::ActuatorMode::Closed);
+  EXPECT_EQ(gripper.stored(), 1u) << "the puck between the paddles is held";
+
+  ASSERT_TRUE(gripper.open());
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(c.sync());
+  EXPECT_EQ(gripper.mode(), wire::ActuatorMode::Open);
+  EXPECT_EQ(gripper.stored(), 0u);
+}
+
+}  // namespace
+}  // namespace troupe::sim
