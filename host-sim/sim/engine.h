@@ -172,6 +172,9 @@ struct Engine {
   // collide.cc
   void broadphase();
   void collide();
+  /// Moves every body whose move `accept` took to its proposed pose; the
+  /// others stay put, stop and stall.
+  void take_accepted_moves();
   bool hits_static(RobotId i, const Pose& from, const Pose& to);
   bool overlaps_robot(RobotId i, const Pose& pi, RobotId j, const Pose& pj);
   // ranger.cc

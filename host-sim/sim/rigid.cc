@@ -152,27 +152,12 @@ void Engine::rigid_collide() {
       });
     }
   }
+  take_accepted_moves();
+  // The refused stay where they were in the physics too, stopped.
   for (RobotId i = 0; i < n; ++i) {
-    Body& b = bodies[i];
-    if (!b.moved) {
-      b.stalled = false;
-      continue;
-    }
-    if (accept[i]) {
-      b.pose = b.proposed;
-      b.stalled = false;
-      continue;
-    }
-    // Back where it was, stopped, as the kinematic model does.
-    b.blocked_at = b.proposed;
-    b.proposed = b.pose;
-    b.vel = {};
-    b.moved = false;
-    b.stalled = true;
-    if (w.valid(r.ids[i])) {
-      w.set_pose(r.ids[i], b.pose);
-      w.set_velocity(r.ids[i], {});
-    }
+    if (accept[i] || !w.valid(r.ids[i])) continue;
+    w.set_pose(r.ids[i], bodies[i].pose);
+    w.set_velocity(r.ids[i], {});
   }
 }
 

@@ -46,31 +46,24 @@ void World::step() {
     PhaseTimer t(e.profile, e.ph_control);
     e.control();
   }
-  // The motion model is chosen once per step, never per robot.
-  if (e.rigid) {
-    {
-      PhaseTimer t(e.profile, e.ph_integrate);
+  // The motion model is chosen once per phase, never per robot.
+  {
+    PhaseTimer t(e.profile, e.ph_integrate);
+    if (e.rigid) {
       e.rigid_integrate();
-    }
-    {
-      PhaseTimer t(e.profile, e.ph_broadphase);
-      e.broadphase();
-    }
-    {
-      PhaseTimer t(e.profile, e.ph_collide);
-      e.rigid_collide();
-    }
-  } else {
-    {
-      PhaseTimer t(e.profile, e.ph_integrate);
+    } else {
       e.integrate();
     }
-    {
-      PhaseTimer t(e.profile, e.ph_broadphase);
-      e.broadphase();
-    }
-    {
-      PhaseTimer t(e.profile, e.ph_collide);
+  }
+  {
+    PhaseTimer t(e.profile, e.ph_broadphase);
+    e.broadphase();
+  }
+  {
+    PhaseTimer t(e.profile, e.ph_collide);
+    if (e.rigid) {
+      e.rigid_collide();
+    } else {
       e.collide();
     }
   }
