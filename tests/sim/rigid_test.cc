@@ -52,6 +52,21 @@ TEST(Physics, UnknownModelIsALoadErrorWithFileAndLine) {
   EXPECT_NE(d.str().find("\"bouncy\""), std::string::npos) << d.str();
 }
 
+TEST(Pucks, BadPuckAndGripperValuesAreErrorsWithFileAndLine) {
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  WorldDesc w;
+  EXPECT_FALSE(load_world_file(dir.write("t.world", R"(resolution 0.1
+model ( gripper_return 1 mass -2 )
+position ( gripper ( paddle_state ["ajar" "down"] ) )
+)"),
+                               w, d));
+  EXPECT_NE(d.str().find("t.world:2"), std::string::npos) << d.str();
+  EXPECT_NE(d.str().find("mass must be > 0"), std::string::npos) << d.str();
+  EXPECT_NE(d.str().find("t.world:3"), std::string::npos) << d.str();
+  EXPECT_NE(d.str().find("paddle_state"), std::string::npos) << d.str();
+}
+
 TEST(Physics, KinematicIsTheDefaultAndRigidIsChosenByKey) {
   troupe::test::TempDir dir;
   for (const auto& [key, want] :
