@@ -67,6 +67,23 @@ position ( gripper ( paddle_state ["ajar" "down"] ) )
   EXPECT_NE(d.str().find("paddle_state"), std::string::npos) << d.str();
 }
 
+TEST(Pucks, AreNamedPuckNAndDoNotShiftUnnamedRobotsNames) {
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  WorldDesc w;
+  ASSERT_TRUE(load_world_file(dir.write("t.world", R"(resolution 0.1
+model ( pose [1 0 0 0] gripper_return 1 )
+position ( pose [-1 0 0 0] )
+model ( pose [2 0 0 0] gripper_return 1 )
+)"),
+                              w, d))
+      << d.str();
+  ASSERT_EQ(w.robots.size(), 3u);
+  EXPECT_EQ(w.robots[0].name, "puck0");
+  EXPECT_EQ(w.robots[1].name, "r0");
+  EXPECT_EQ(w.robots[2].name, "puck1");
+}
+
 TEST(Physics, KinematicIsTheDefaultAndRigidIsChosenByKey) {
   troupe::test::TempDir dir;
   for (const auto& [key, want] :
