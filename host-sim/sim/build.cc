@@ -65,6 +65,7 @@ Engine::Engine(const WorldDesc& d, Random r) : desc(d), random(r) {
   ph_integrate = profile.define("integrate");
   ph_broadphase = profile.define("broadphase");
   ph_collide = profile.define("collide");
+  ph_grippers = profile.define("grippers");
   ph_odometry = profile.define("odometry");
   ph_rangers = profile.define("rangers");
   ph_blobfinders = profile.define("blobfinders");
@@ -97,6 +98,7 @@ void Engine::build() {
   hash_radii.resize(bodies.size());
   hash_flags.resize(bodies.size());
   accept.resize(bodies.size());
+  if (desc.physics == Physics::Rigid) build_rigid();
   publish_states();
   broadphase();  // sensors may run before the first step
 }
@@ -150,6 +152,7 @@ void Engine::build_robot(const RobotDesc& r) {
   RobotInfo ri;
   ri.name = r.name;
   ri.has_power = r.power.enabled;
+  ri.puck = r.puck;
 
   Body b;
   b.poly_first = uint32_t(polys.size());
@@ -254,6 +257,16 @@ void Engine::build_robot(const RobotDesc& r) {
   for (size_t k2 = 0; k2 < r.bumpers.size(); ++k2) bumpers.push_back({id, false, UINT64_MAX, 0});
   ri.cameras = {uint32_t(cameras.size()), uint32_t(r.cameras.size())};
   for (size_t k2 = 0; k2 < r.cameras.size(); ++k2) cameras.push_back({id, false, UINT64_MAX, 0, 0, {}, {}});
+  ri.grippers = {uint32_t(grippers.size()), uint32_t(r.grippers.size())};
+  for (const GripperDesc& g : r.grippers) {
+    GripperState gs;
+    gs.robot = id;
+    gs.robot_gripper = uint32_t(grippers.size()) - ri.grippers.first;
+    gs.pose = g.pose;
+    gs.half_size = 0.5 * g.size;
+    gs.closed = gs.want_closed = g.closed;
+    grippers.push_back(gs);
+  }
   info.push_back(std::move(ri));
 }
 

@@ -95,7 +95,11 @@ void Engine::collide() {
     }
     accept[i] = blocked ? 0 : 1;
   }
-  for (RobotId i = 0; i < n; ++i) {
+  take_accepted_moves();
+}
+
+void Engine::take_accepted_moves() {
+  for (RobotId i = 0; i < bodies.size(); ++i) {
     Body& b = bodies[i];
     if (!b.moved) {
       b.stalled = false;

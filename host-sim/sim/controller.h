@@ -52,6 +52,12 @@ class RobotHandle {
   /// Seeded random numbers for this robot: uniform in [0, 1), a pure
   /// function of the run's seed, the robot, the step and `k`.
   virtual double uniform(uint64_t k) const = 0;
+
+  /// The robot's grippers: paddles and what they hold; closing catches the
+  /// puck between them at the next step, opening drops it.
+  virtual uint32_t gripper_count() const = 0;
+  virtual GripperView gripper(uint32_t k) const = 0;
+  virtual void set_gripper(uint32_t k, bool closed) = 0;
 };
 
 class Controller {
@@ -67,13 +73,17 @@ class Controller {
 
 /// The version of the Controller and RobotHandle interfaces
 /// (TroupePluginInfo::interface_version).
-inline constexpr uint32_t kControllerInterfaceVersion = 1;
+/// 2: RobotHandle's grippers.
+inline constexpr uint32_t kControllerInterfaceVersion = 2;
 
 /// The plugin description of a controller made by `Create`.
 template <Controller* (*Create)(const char* args)>
 const TroupePluginInfo* controller_info(const char* name) {
-  static const TroupePluginInfo info{TROUPE_PLUGIN_ABI_VERSION, TROUPE_PLUGIN_CONTROLLER, kControllerInterfaceVersion,
-                                     name, [](const char* args) -> void* { return Create(args); },
+  static const TroupePluginInfo info{TROUPE_PLUGIN_ABI_VERSION,
+                                     TROUPE_PLUGIN_CONTROLLER,
+                                     kControllerInterfaceVersion,
+                                     name,
+                                     [](const char* args) -> void* { return Create(args); },
                                      [](void* p) { delete static_cast<Controller*>(p); }};
   return &info;
 }

@@ -41,6 +41,9 @@ class WorldRobot final : public RobotHandle {
   double uniform(uint64_t k) const override {
     return w_.random().uniform(Random::stream(uint64_t(RandomKind::Controller), id_, w_.steps()), k);
   }
+  uint32_t gripper_count() const override { return w_.robot(id_).grippers.count; }
+  GripperView gripper(uint32_t k) const override { return w_.gripper(gripper_index(k)); }
+  void set_gripper(uint32_t k, bool closed) override { w_.set_gripper(gripper_index(k), closed); }
 
  private:
   IndexRange range(SensorKind kind) const {
@@ -62,6 +65,11 @@ class WorldRobot final : public RobotHandle {
   // Out-of-range k is the controller's bug: World's accessors throw on it.
   uint32_t index(SensorKind kind, uint32_t k) const {
     const IndexRange r = range(kind);
+    return k < r.count ? r.first + k : UINT32_MAX;
+  }
+
+  uint32_t gripper_index(uint32_t k) const {
+    const IndexRange r = w_.robot(id_).grippers;
     return k < r.count ? r.first + k : UINT32_MAX;
   }
 
@@ -97,7 +105,8 @@ bool ControllerHost::load(World& world, const Options& options, world::Diagnosti
       continue;
     }
     std::string error;
-    auto c = loader.make<Controller>(name, TROUPE_PLUGIN_CONTROLLER, kControllerInterfaceVersion, args.c_str(), error);
+    auto c = loader.make<Controller>(name, TROUPE_PLUGIN_CONTROLLER, kControllerInterfaceVersion,
+                                     args.c_str(), error);
     if (!c) {
       diags.error(desc.ctrl_loc, error);
       continue;
@@ -112,8 +121,9 @@ bool ControllerHost::load(World& world, const Options& options, world::Diagnosti
 bool ControllerHost::attach(World& world, RobotId robot, std::unique_ptr<Controller> controller,
                             std::string& error) {
   Controller* raw = controller.release();
-  return attach(world, robot, plugin::Instance<Controller>(nullptr, raw, [](void* p) { delete static_cast<Controller*>(p); }),
-                error);
+  return attach(
+      world, robot,
+      plugin::Instance<Controller>(nullptr, raw, [](void* p) { delete static_cast<Controller*>(p); }), error);
 }
 
 bool ControllerHost::attach(World& world, RobotId robot, plugin::Instance<Controller> controller,

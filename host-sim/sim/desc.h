@@ -112,12 +112,12 @@ struct CameraDesc {
   /// Up from level, rad. Applied as a lens shift (rows move by
   /// fy tan(tilt)) so vertical edges stay vertical, as in the 2.5D world.
   double tilt = 0;
-  int width = 32, height = 32;        // image, px
-  double near = 0.2, far = 8.0;       // m along a pixel's ray
-  double hfov = 70 * kPi / 180;       // rad across the image
-  double vfov = 40 * kPi / 180;       // rad down the image
-  Vec2 size{0.1, 0.07};               // body, m (for geometry requests)
-  double size_z = 0.05;               // m
+  int width = 32, height = 32;   // image, px
+  double near = 0.2, far = 8.0;  // m along a pixel's ray
+  double hfov = 70 * kPi / 180;  // rad across the image
+  double vfov = 40 * kPi / 180;  // rad down the image
+  Vec2 size{0.1, 0.07};          // body, m (for geometry requests)
+  double size_z = 0.05;          // m
 };
 
 /// Largest image side a world file or configuration may ask for, px.
@@ -159,8 +159,25 @@ struct PowerDesc {
   double watts = 0;
 };
 
+/// A Stage gripper on a robot: two paddles in front of it that close on a
+/// puck between them and carry it. Stage's keys: `paddle_size [x y z]`
+/// (the paddles' reach, their span and height, m) and `paddle_state`.
+struct GripperDesc {
+  /// The gripper model's centre, robot frame: m, m, rad.
+  Pose pose;
+  /// The gripper's footprint, m: a puck whose centre lies in the part of it
+  /// ahead of the robot's outline, between the paddles, is caught on closing.
+  Vec2 size{0.2, 0.3};
+  /// Paddles closed at the start (Stage's paddle_state "closed").
+  bool closed = false;
+};
+
 struct RobotDesc {
   std::string name;
+  /// A movable object (a Stage model with `gripper_return 1`), not a robot:
+  /// no drive (its velocity bounds are zero), pushed in rigid mode, carried
+  /// by grippers.
+  bool puck = false;
   /// World pose at the start.
   Pose pose;
   /// Body outline (its own blocks and its children's), robot frame, scaled.
@@ -192,6 +209,7 @@ struct RobotDesc {
   std::vector<FiducialDesc> fiducials;
   std::vector<BumperDesc> bumpers;
   std::vector<CameraDesc> cameras;
+  std::vector<GripperDesc> grippers;
 
   /// Controller named in the world file ("wander arg1 ..."), and where.
   std::string ctrl;
@@ -205,7 +223,19 @@ struct WindowDesc {
   Vec2 center;                // m
 };
 
+/// How the step moves bodies (the world file's top-level `physics` key).
+enum class Physics {
+  /// Stage's model: a robot moves exactly as commanded unless the move would
+  /// overlap something, then it stays put and stalls. Pucks are obstacles.
+  Kinematic,
+  /// Rigid bodies (host-sim/robocup/physics): robots are driven at their
+  /// commanded velocities and push each other and pucks by impulses; walls
+  /// of the static map stop them.
+  Rigid,
+};
+
 struct WorldDesc {
+  Physics physics = Physics::Kinematic;
   /// Obstacle grid cell size, m.
   double resolution = 0.02;
   /// Simulated time per step, s.

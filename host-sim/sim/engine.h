@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "host-sim/sim/desc.h"
@@ -117,6 +118,26 @@ struct CameraState {
   std::vector<float> depth;
 };
 
+struct GripperState {
+  RobotId robot = 0;
+  uint32_t robot_gripper = 0;  // its index among its robot's grippers
+  /// Its footprint, robot frame, m: a puck with its centre inside is caught.
+  Pose pose;
+  Vec2 half_size;
+  bool closed = false;
+  bool want_closed = false;
+  bool holding = false;
+  RobotId held = 0;
+  /// The held puck's pose in the robot's frame: m, m, rad.
+  Pose offset;
+};
+
+struct RigidBodies;  // rigid.cc: the rigid-body model's world and handles
+// Deletes it where its type is complete, so this header needs no physics.
+struct RigidBodiesDelete {
+  void operator()(RigidBodies* r) const;
+};
+
 /// A static model, for what the grid cannot say: which model a ray hit
 /// (colour, reflectance) and fiducial landmarks.
 struct StaticInfo {
@@ -139,9 +160,21 @@ struct Engine {
   void control();
   void integrate();
   void odometry();
+  // rigid.cc: the rigid-body model's integrate and collide phases
+  void build_rigid();
+  void rigid_integrate();
+  void rigid_collide();
+  /// Puts robot i's rigid body at its pose, velocity and obstacle flag
+  /// (after a teleport, a reset, or a gripper taking or dropping it).
+  void sync_rigid(RobotId i);
+  // gripper.cc
+  void update_grippers();
   // collide.cc
   void broadphase();
   void collide();
+  /// Moves every body whose move `accept` took to its proposed pose; the
+  /// others stay put, stop and stall.
+  void take_accepted_moves();
   bool hits_static(RobotId i, const Pose& from, const Pose& to);
   bool overlaps_robot(RobotId i, const Pose& pi, RobotId j, const Pose& pj);
   // ranger.cc
@@ -170,8 +203,10 @@ struct Engine {
   StaticMap map;
   SpatialHash hash;
   Profile profile;
-  size_t ph_control, ph_integrate, ph_broadphase, ph_collide, ph_odometry, ph_rangers, ph_blobfinders,
-      ph_fiducials, ph_bumpers, ph_cameras;
+  size_t ph_control, ph_integrate, ph_broadphase, ph_collide, ph_grippers, ph_odometry, ph_rangers,
+      ph_blobfinders, ph_fiducials, ph_bumpers, ph_cameras;
+  /// Set in rigid mode (WorldDesc::physics) only.
+  std::unique_ptr<RigidBodies, RigidBodiesDelete> rigid;
   double time = 0;  // s
   uint64_t steps = 0;
 
@@ -193,6 +228,7 @@ struct Engine {
   std::vector<FiducialState> fiducials;
   std::vector<BumperState> bumpers;
   std::vector<CameraState> cameras;
+  std::vector<GripperState> grippers;
   std::vector<StaticInfo> statics;
 
   // Scratch, reused every step so the step does not allocate.
@@ -212,7 +248,7 @@ struct Engine {
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
   struct Span {
-    double t;  // m along the column's horizontal direction
+    double t;    // m along the column's horizontal direction
     double top;  // m above the floor
     uint32_t color;
   };

@@ -15,7 +15,11 @@ void Loader::robot(const Entity& e, WorldDesc& out) {
   ModelCommon c = common(e, ModelKind::Position);
   RobotDesc r;
   r.name = c.name;
-  if (r.name.empty()) r.name.append("r").append(std::to_string(out.robots.size()));
+  // Numbered among robots only, so pucks (also in out.robots) do not shift
+  // the names robots had when pucks were static.
+  const auto robots =
+      std::count_if(out.robots.begin(), out.robots.end(), [](const RobotDesc& o) { return !o.puck; });
+  if (r.name.empty()) r.name.append("r").append(std::to_string(robots));
   r.pose = c.pose;
   r.size = c.size;
   r.look = c.look;
@@ -112,6 +116,11 @@ void Loader::robot_part(const Entity& e, const Pose& parent, RobotDesc& r) {
       break;
     case ModelKind::Camera:
       camera(e, c, at, r);
+      break;
+    case ModelKind::Gripper:
+      // Its paddles hold what it carries: their body is not the robot's
+      // outline, or a puck between them would block the robot.
+      gripper(e, c, at, r);
       break;
     case ModelKind::Sensor:
       diags().warn(e.loc, "a sensor( ... ) belongs inside a ranger; ignored");
@@ -290,9 +299,8 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   if (read_.tuple(e, "resolution", "ff", res) > 0 &&
       !(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxCameraSide && res[1] <= kMaxCameraSide &&
         res[0] == std::floor(res[0]) && res[1] == std::floor(res[1]))) {
-    diags().error(e.find("resolution")->loc,
-                  "camera resolution must be whole numbers of pixels, 1.." + std::to_string(kMaxCameraSide) +
-                      " each way");
+    diags().error(e.find("resolution")->loc, "camera resolution must be whole numbers of pixels, 1.." +
+                                                 std::to_string(kMaxCameraSide) + " each way");
     return;
   }
   d.width = int(res[0]);
@@ -306,7 +314,8 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   d.far = range[1];
   double fov[2] = {d.hfov, d.vfov};
   if (read_.tuple(e, "fov", "aa", fov) > 0 && !(fov[0] > 0 && fov[0] < kPi && fov[1] > 0 && fov[1] < kPi)) {
-    diags().error(e.find("fov")->loc, "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
+    diags().error(e.find("fov")->loc,
+                  "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
     return;
   }
   d.hfov = fov[0];
@@ -338,6 +347,23 @@ void Loader::power(const Entity& e, RobotDesc& r) {
   r.power.enabled = true;
   r.power.charge = joules;
   r.power.capacity = capacity > 0 ? capacity : joules;
+}
+
+void Loader::gripper(const Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r) {
+  GripperDesc g;
+  g.pose = at;
+  g.size = c.size;
+  if (const Property* p = e.find("paddle_state")) {
+    // Stage: ["open"|"closed" "up"|"down"]; only the first is simulated.
+    const std::string state = p->values.empty() ? "" : p->values[0].text;
+    if (state == "closed") {
+      g.closed = true;
+    } else if (state != "open") {
+      diags().error(p->loc, "paddle_state's first value must be \"open\" or \"closed\"");
+    }
+  }
+  for (const char* key : {"paddle_size", "autosnatch"}) e.find(key);
+  r.grippers.push_back(g);
 }
 
 }  // namespace troupe::sim

@@ -32,7 +32,7 @@ constexpr TypeEntry kTypes[] = {
     {"block", ModelKind::Block},
     {"window", ModelKind::Window},
     {"camera", ModelKind::Camera},
-    {"gripper", ModelKind::NotSimulated},
+    {"gripper", ModelKind::Gripper},
     {"actuator", ModelKind::NotSimulated},
     {"blinkenlight", ModelKind::NotSimulated},
     {"lightindicator", ModelKind::NotSimulated},
@@ -88,7 +88,11 @@ bool Loader::run(WorldDesc& out) {
         robot(e, out);
         break;
       case ModelKind::Model:
-        static_model(e, {}, out);
+        if (read_.flag(e, "gripper_return", false)) {
+          puck(e, out);
+        } else {
+          static_model(e, {}, out);
+        }
         break;
       case ModelKind::NotSimulated:
         diags().warn(e.loc, "model type '" + e.type + "' is not simulated; '" + e.written_type +
@@ -135,6 +139,17 @@ void Loader::world_properties(const Entity& w, WorldDesc& out) {
   out.speedup = read_.number(w, "speedup", out.speedup);
   out.threads = read_.integer(w, "threads", out.threads);
   for (const char* key : {"show_clock", "show_clock_interval", "log", "name"}) w.find(key);
+  if (auto physics = read_.string(w, "physics")) {
+    if (*physics == "kinematic") {
+      out.physics = Physics::Kinematic;
+    } else if (*physics == "rigid") {
+      out.physics = Physics::Rigid;
+    } else {
+      diags().error(
+          w.find("physics")->loc,
+          "physics \"" + *physics + "\" is neither \"kinematic\" (Stage's, the default) nor \"rigid\"");
+    }
+  }
 }
 
 void Loader::window(const Entity& e, WindowDesc& out) {
@@ -267,6 +282,31 @@ void Loader::static_model(const Entity& e, const Pose& parent, WorldDesc& out) {
       for (const Property& p : child.properties) p.used = true;
     }
   }
+}
+
+void Loader::puck(const Entity& e, WorldDesc& out) {
+  ModelCommon c = common(e, ModelKind::Model);
+  RobotDesc r;
+  r.puck = true;
+  r.name = c.name.empty() ? "puck" + std::to_string(pucks_++) : c.name;
+  r.pose = c.pose;
+  r.size = c.size;
+  r.look = c.look;
+  r.mass = read_.number(e, "mass", r.mass);
+  if (!(r.mass > 0)) {
+    diags().error(e.find("mass")->loc, "a puck's mass must be > 0 kg");
+    r.mass = 1;
+  }
+  r.polygons = body(e, c, true);
+  // No drive: commands cannot move it; pushes (rigid mode) and grippers do.
+  for (Range& v : r.velocity) v = {0, 0};
+  r.odom_error = {};
+  for (const Entity& child : e.children) {
+    if (model_kind(child.type) == ModelKind::Block) continue;
+    diags().warn(child.loc, "a " + child.type + " on a puck is not simulated");
+    for (const Property& p : child.properties) p.used = true;
+  }
+  out.robots.push_back(std::move(r));
 }
 
 void Loader::check_grid_size(const Entity& w, const WorldDesc& out) {

@@ -21,6 +21,7 @@ enum class ModelKind {
   Fiducial,
   Bumper,
   Camera,
+  Gripper,
   Block,
   Window,
   NotSimulated,
@@ -56,6 +57,8 @@ class Loader {
   Polygons body(const world::Entity& e, const ModelCommon& c, bool default_block);
   std::shared_ptr<BitmapDesc> bitmap(const world::Entity& e);
   void static_model(const world::Entity& e, const Pose& parent, WorldDesc& out);
+  /// A top-level model with `gripper_return 1`: a movable object.
+  void puck(const world::Entity& e, WorldDesc& out);
   void check_grid_size(const world::Entity& w, const WorldDesc& out);
 
   // load_robot.cc
@@ -67,11 +70,13 @@ class Loader {
   void fiducial(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void bumper(const world::Entity& e, const Pose& at, RobotDesc& r);
   void camera(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  void gripper(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void power(const world::Entity& e, RobotDesc& r);
 
   const world::WorldFile& file_;
   Reader read_;
   int unnamed_robots_ = 0;
+  int pucks_ = 0;  // unnamed pucks so far, for their default names
 };
 
 }  // namespace troupe::sim

@@ -46,9 +46,14 @@ void World::step() {
     PhaseTimer t(e.profile, e.ph_control);
     e.control();
   }
+  // The motion model is chosen once per phase, never per robot.
   {
     PhaseTimer t(e.profile, e.ph_integrate);
-    e.integrate();
+    if (e.rigid) {
+      e.rigid_integrate();
+    } else {
+      e.integrate();
+    }
   }
   {
     PhaseTimer t(e.profile, e.ph_broadphase);
@@ -56,7 +61,15 @@ void World::step() {
   }
   {
     PhaseTimer t(e.profile, e.ph_collide);
-    e.collide();
+    if (e.rigid) {
+      e.rigid_collide();
+    } else {
+      e.collide();
+    }
+  }
+  if (!e.grippers.empty()) {
+    PhaseTimer t(e.profile, e.ph_grippers);
+    e.update_grippers();
   }
   {
     PhaseTimer t(e.profile, e.ph_odometry);
@@ -77,7 +90,15 @@ void World::refresh_sensors() {
 
 void World::reset() {
   Engine& e = *e_;
+  for (GripperState& g : e.grippers) {
+    g.closed = g.want_closed = e.desc.robots[g.robot].grippers[g.robot_gripper].closed;
+    if (g.holding) e.bodies[g.held].obstacle = e.desc.robots[g.held].look.obstacle;
+    g.holding = false;
+  }
   for (RobotId i = 0; i < e.bodies.size(); ++i) e.start_robot(i);
+  if (e.rigid) {
+    for (RobotId i = 0; i < e.bodies.size(); ++i) e.sync_rigid(i);
+  }
   e.steps = 0;
   e.time = 0;
   e.publish_states();
@@ -130,6 +151,7 @@ bool World::set_pose(RobotId id, const Pose& pose) {
   b.stalled = false;
   if (e.kinematics[id].localization == Localization::Gps)
     e.odom[id].estimate = relative(e.odom[id].origin, b.pose);
+  if (e.rigid) e.sync_rigid(id);
   e.publish_states();
   e.broadphase();
   return true;
@@ -320,6 +342,23 @@ bool World::set_camera_size(uint32_t index, int width, int height) {
   d.width = width;
   d.height = height;
   return true;
+}
+
+size_t World::gripper_count() const {
+  return e_->grippers.size();
+}
+
+RobotId World::gripper_owner(uint32_t index) const {
+  return e_->grippers.at(index).robot;
+}
+
+GripperView World::gripper(uint32_t index) const {
+  const GripperState& g = e_->grippers.at(index);
+  return {g.closed, g.holding, g.held};
+}
+
+void World::set_gripper(uint32_t index, bool closed) {
+  e_->grippers.at(index).want_closed = closed;
 }
 
 }  // namespace troupe::sim

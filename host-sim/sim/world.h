@@ -52,7 +52,12 @@ struct IndexRange {
 struct RobotInfo {
   std::string name;
   IndexRange rangers, blobfinders, fiducials, bumpers, cameras;
+  /// Its grippers, by world-wide gripper index.
+  IndexRange grippers;
   bool has_power = false;
+  /// A movable object (a Stage model with `gripper_return 1`), not a robot:
+  /// commands do not move it (RobotDesc::puck).
+  bool puck = false;
 };
 
 enum class CommandMode : uint8_t { Velocity, Goto };
@@ -140,6 +145,14 @@ struct CameraView {
   /// nothing (floor included) is within the camera's far range.
   std::span<const float> depth;
   uint64_t step = UINT64_MAX;
+};
+
+/// A gripper's paddles and what they hold.
+struct GripperView {
+  bool closed = false;
+  /// The puck held between the paddles, when `holding`.
+  bool holding = false;
+  RobotId held = 0;
 };
 
 struct PowerView {
@@ -234,6 +247,17 @@ class World {
   /// Changes a camera's image size (1..kMaxCameraSide px each way; false
   /// and nothing changed otherwise). The next rendering has the new size.
   bool set_camera_size(uint32_t index, int width, int height);
+
+  // ---- Grippers --------------------------------------------------------------
+
+  /// Grippers by world-wide index (a robot's are RobotInfo::grippers).
+  size_t gripper_count() const;
+  RobotId gripper_owner(uint32_t index) const;
+  GripperView gripper(uint32_t index) const;
+  /// Closes (catching a puck whose centre lies in the gripper's footprint,
+  /// which is then carried) or opens (dropping it where it is) the paddles
+  /// at the next step.
+  void set_gripper(uint32_t index, bool closed);
 
   // ---- Inspection ------------------------------------------------------------
 

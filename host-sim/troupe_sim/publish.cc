@@ -80,6 +80,9 @@ void SimServer::publish_one(const Device& d) {
     case Kind::Power:
       publish_power(d);
       break;
+    case Kind::Gripper:
+      publish_gripper(d);
+      break;
     case Kind::Camera:  // publish_camera(): it keeps state per device
       break;
     case Kind::Simulation:
@@ -151,6 +154,14 @@ void SimServer::publish_fiducials(const Device& d) {
   auto& b = node_->begin();
   auto body = wire::CreateFiducialList(b, b.CreateVectorOfStructs(out));
   node_->publish(d.id, uint8_t(wire::FiducialDataSub::Detections), wire::Body::FiducialList, body.Union());
+}
+
+void SimServer::publish_gripper(const Device& d) {
+  const GripperView g = world_.gripper(d.index);
+  auto& b = node_->begin();
+  auto body = wire::CreateActuatorState(b, g.closed ? wire::ActuatorMode::Closed : wire::ActuatorMode::Open,
+                                        0.0f, 0, uint8_t(g.holding ? 1 : 0));
+  node_->publish(d.id, uint8_t(wire::ActuatorDataSub::State), wire::Body::ActuatorState, body.Union());
 }
 
 void SimServer::publish_bumper(const Device& d) {

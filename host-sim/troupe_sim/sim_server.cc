@@ -57,6 +57,9 @@ bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
     for (uint32_t k = 0; k < info.cameras.count; ++k) {
       add(node, Kind::Camera, r, info.cameras.first + k, wire::Interface::Camera, uint16_t(k));
     }
+    for (uint32_t k = 0; k < info.grippers.count; ++k) {
+      add(node, Kind::Gripper, r, info.grippers.first + k, wire::Interface::Actuator, uint16_t(k));
+    }
     if (info.has_power) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
   }
   if (only_ < 0) {
@@ -117,6 +120,14 @@ bool SimServer::sync_wanted() {
 
 void SimServer::on_command(DeviceId id, const wire::Message& cmd) {
   const Device* d = find(id);
+  if (d != nullptr && d->kind == Kind::Gripper) {
+    // A gripper opens and closes; other actions (stop, kick, goto) mean
+    // nothing to it and are ignored.
+    const wire::ActuatorCommand* a = cmd.body_as_ActuatorCommand();
+    if (a && a->action() == wire::ActuatorAction::Open) world_.set_gripper(d->index, false);
+    if (a && a->action() == wire::ActuatorAction::Close) world_.set_gripper(d->index, true);
+    return;
+  }
   if (d == nullptr || d->kind != Kind::Position || !d->motors_on) return;
   Command c;
   if (const wire::Position2dVel* v = cmd.body_as_Position2dVel(); v && v->vel()) {

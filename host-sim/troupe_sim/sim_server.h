@@ -41,12 +41,23 @@ class SimServer final : public Driver, private SimulationModels {
   size_t device_count() const { return devices_.size(); }
 
  private:
-  enum class Kind : uint8_t { Position, Ranger, Blobfinder, Fiducial, Bumper, Camera, Power, Simulation, Map };
+  enum class Kind : uint8_t {
+    Position,
+    Ranger,
+    Blobfinder,
+    Fiducial,
+    Bumper,
+    Camera,
+    Power,
+    Gripper,
+    Simulation,
+    Map
+  };
   struct Device {
     DeviceId id = kNoDevice;
     Kind kind;
     RobotId robot = 0;
-    uint32_t index = 0;     // world-wide sensor index
+    uint32_t index = 0;     // world-wide sensor (or gripper) index
     bool pinned = false;    // a controller wants it whether read or not
     bool motors_on = true;  // position2d only
     // camera only: what its images carry (SetConfig chooses).
@@ -66,6 +77,7 @@ class SimServer final : public Driver, private SimulationModels {
   void publish_bumper(const Device& d);
   void publish_camera(Device& d);
   void publish_power(const Device& d);
+  void publish_gripper(const Device& d);
   void publish_clock(const Device& d);
   void publish_poses(const Device& d);
   // simulation:0 (sim_requests.h): robots move, static models only tell

@@ -145,7 +145,7 @@ bogus_world_key 3
 position ( name "a" pose [0 0 0 0]
   wheels 4
   ranger ( sensor ( range [0 5] colour "red" ) )
-  gripper ( pose [0.2 0 0 0] )
+  actuator ( pose [0.2 0 0 0] )
 )
 teleporter ( pose [3 3 0 0] )
 position ( name "a" pose [1 1 0] )
@@ -165,7 +165,7 @@ position ( name "a" pose [1 1 0] )
   EXPECT_TRUE(has(2, "unknown key 'bogus_world_key'")) << d.str();
   EXPECT_TRUE(has(4, "unknown key 'wheels' for model type 'position'")) << d.str();
   EXPECT_TRUE(has(5, "unknown key 'colour' for model type 'sensor'")) << d.str();
-  EXPECT_TRUE(has(6, "'gripper' is not simulated")) << d.str();
+  EXPECT_TRUE(has(6, "'actuator' is not simulated")) << d.str();
   EXPECT_TRUE(has(8, "unknown model type 'teleporter'")) << d.str();
   EXPECT_TRUE(has(9, "already named 'a'")) << d.str();
   EXPECT_TRUE(has(9, "read as [x y angle]")) << d.str();

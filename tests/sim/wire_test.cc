@@ -28,6 +28,16 @@ bot ( name "r0" pose [0 0 0 0] ranger ( sensor ( range [0 8] fov 180 samples 181
 bot ( name "r1" pose [-3 2 0 90] )
 )";
 
+// Every device the server lists, as "robot/interface:index" text; empty
+// when the list cannot be had.
+std::vector<std::string> device_names(client::Client& c) {
+  std::vector<client::DeviceEntry> devices;
+  std::vector<std::string> names;
+  if (!c.device_list(devices)) return names;
+  for (const auto& d : devices) names.push_back(d.text());
+  return names;
+}
+
 class WireTest : public test::ServedWorld {
  protected:
   WireTest() : ServedWorld(kWorld) {}
@@ -36,12 +46,8 @@ class WireTest : public test::ServedWorld {
 TEST_F(WireTest, ListsEveryRobotsDevicesAndTheSimulation) {
   client::Client c("127.0.0.1", runner_.port());
   ASSERT_TRUE(c.connect()) << c.error();
-  std::vector<client::DeviceEntry> devices;
-  ASSERT_TRUE(c.device_list(devices));
-  std::vector<std::string> names;
-  for (const auto& d : devices) names.push_back(d.text());
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"r0/position2d:0", "r0/ranger:0", "r1/position2d:0", "simulation:0", "map:0"}));
+  EXPECT_EQ(device_names(c), (std::vector<std::string>{"r0/position2d:0", "r0/ranger:0", "r1/position2d:0",
+                                                       "simulation:0", "map:0"}));
   wire::Address a;
   ASSERT_TRUE(c.resolve("r1/position2d:0", a));
   EXPECT_EQ(a.robot(), 1);
@@ -218,6 +224,55 @@ TEST(WirePortPerRobot, ASingleRobotClientAttachesToItsRobotsPort) {
   }
   runner.request_stop();
   sim.join();
+}
+
+}  // namespace
+}  // namespace troupe::sim
+
+namespace troupe::sim {
+namespace {
+
+// A robot with a Stage gripper and a puck between its paddles: the gripper
+// is served as actuator:0, the puck as a position2d of its own.
+const char* kGripperWorld = R"(
+resolution 0.02
+interval_sim 100
+define puck model ( size [0.1 0.1 0.1] gripper_return 1 )
+position ( name "g" pose [0 0 0 0] size [0.4 0.4] localization "gps" localization_origin [0 0 0 0]
+  gripper ( pose [0.3 0 0 0] size [0.2 0.2 0.1] ) )
+puck ( pose [0.3 0 0 0] )
+)";
+
+class GripperWireTest : public test::ServedWorld {
+ protected:
+  GripperWireTest() : ServedWorld(kGripperWorld) {}
+};
+
+TEST_F(GripperWireTest, AClientClosesAndOpensTheGripperOnAPuck) {
+  client::Client c("127.0.0.1", runner_.port());
+  ASSERT_TRUE(c.connect()) << c.error();
+  EXPECT_EQ(device_names(c), (std::vector<std::string>{"g/position2d:0", "g/actuator:0", "puck0/position2d:0",
+                                                       "simulation:0", "map:0"}));
+
+  client::ActuatorProxy gripper(c, 0, 0);
+  client::SimulationProxy sim(c);
+  ASSERT_TRUE(gripper.is_open() && sim.is_open());
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(c.sync());
+  EXPECT_EQ(gripper.mode(), wire::ActuatorMode::Open);
+  EXPECT_EQ(gripper.stored(), 0u);
+
+  ASSERT_TRUE(gripper.close());
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(c.sync());
+  EXPECT_EQ(gripper.mode(), wire::ActuatorMode::Closed);
+  EXPECT_EQ(gripper.stored(), 1u) << "the puck between the paddles is held";
+
+  ASSERT_TRUE(gripper.open());
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(c.sync());
+  EXPECT_EQ(gripper.mode(), wire::ActuatorMode::Open);
+  EXPECT_EQ(gripper.stored(), 0u);
 }
 
 }  // namespace
