@@ -1,12 +1,16 @@
-// Cameras: a software rendering of the 2.5D world, one ray per image column.
-// Each column's horizontal ray finds the first wall (the static grid's ray
-// marcher) and every robot it crosses before it; each hit is a vertical
-// span from the floor to the model's height, projected with the pinhole
-// model. Spans are drawn farthest first, so nearer ones cover farther ones;
-// the floor and the sky fill what no span covers. The depth image comes
-// from the same pass. Limits: only the first wall along a column is drawn
-// (a low wall hides the taller one behind it above its top: the sky shows
-// there), and the floor is one colour.
+// Cameras: a software rendering of the 2.5D world from horizontal rays of
+// the static grid's ray marcher. Each ray finds the first wall and every
+// robot it crosses before it; each hit is a vertical span from the floor to
+// the model's height. The floor is painted (FloorDesc: a colour and marks,
+// such as a RoboCup field's lines) and the sky fills what nothing covers.
+// The depth image comes from the same pass. Two projections:
+//  - pinhole: one ray per image column; spans are projected with the
+//    pinhole model, farthest first, so nearer ones cover farther ones;
+//  - omni (an isometric mirror): one ray per pixel of the image's rim, all
+//    around; each pixel follows its ray down to the ground point its radius
+//    maps to (or up, in the outer ring) and takes the first span it meets.
+// Limits: only the first wall along a ray is drawn (a low wall hides the
+// taller one behind it above its top: the sky shows there).
 #include <algorithm>
 #include <cmath>
 
@@ -15,7 +19,6 @@
 namespace troupe::sim {
 namespace {
 
-constexpr uint32_t kFloorColor = 0x808080;
 constexpr uint32_t kSkyColor = 0xB4D2F0;
 constexpr float kNoDepth = INFINITY;
 
@@ -25,7 +28,40 @@ int row_at(double y, int h) {
   return int(std::clamp(std::ceil(y - 0.5), 0.0, double(h)));
 }
 
+void put(uint8_t* p, uint32_t color) {
+  p[0] = uint8_t(color >> 16);
+  p[1] = uint8_t(color >> 8);
+  p[2] = uint8_t(color);
+}
+
 }  // namespace
+
+uint32_t floor_color(const FloorDesc& floor, Vec2 p) {
+  uint32_t color = floor.color;
+  for (const FloorMark& m : floor.marks) {
+    double off;  // m from the stroke's centre line
+    if (m.radius > 0) {
+      off = std::fabs(length(p - m.a) - m.radius);
+    } else {
+      const Vec2 ab = m.b - m.a;
+      const double l2 = dot(ab, ab);
+      const double f = l2 > 0 ? std::clamp(dot(p - m.a, ab) / l2, 0.0, 1.0) : 0.0;
+      off = length(p - (m.a + f * ab));
+    }
+    if (off <= 0.5 * m.width) color = m.color;
+  }
+  return color;
+}
+
+void Engine::camera_candidates(RobotId own, Vec2 o, double far) {
+  candidates.clear();
+  hash.query(o, far, [&](uint32_t j) {
+    if (j != own) candidates.push_back(j);
+  });
+  // In index order: spans at equal distances are then drawn in the same
+  // order on every run, whatever order the hash gave them in.
+  std::sort(candidates.begin(), candidates.end());
+}
 
 void Engine::update_cameras() {
   for (uint32_t index = 0; index < cameras.size(); ++index) {
@@ -36,6 +72,13 @@ void Engine::update_cameras() {
 void Engine::render_camera(uint32_t index) {
   CameraState& st = cameras[index];
   const CameraDesc& d = desc.robots[st.robot].cameras[index - info[st.robot].cameras.first];
+  if (d.projection == CameraProjection::Omni) {
+    render_omni(st, d);
+    st.width = d.width;
+    st.height = d.height;
+    st.step = steps;
+    return;
+  }
   const int w = d.width, h = d.height;
   const size_t n = size_t(w) * size_t(h);
   st.rgb.resize(n * 3);
@@ -65,9 +108,9 @@ void Engine::render_camera(uint32_t index) {
   // The floor and the sky, row by row (contiguous writes): a pixel below
   // the horizon sees the floor where its ray meets it within range. Its
   // ray climbs s = (cy - v) / k metres per horizontal metre, so it meets
-  // the floor at zc / -s and its length is zc sqrt(1 + 1 / s^2).
-  const uint8_t sky[3] = {uint8_t(kSkyColor >> 16), uint8_t(kSkyColor >> 8), uint8_t(kSkyColor)};
-  const uint8_t ground[3] = {uint8_t(kFloorColor >> 16), uint8_t(kFloorColor >> 8), uint8_t(kFloorColor)};
+  // the floor zc / -s horizontal metres away and its length is
+  // zc sqrt(1 + 1 / s^2).
+  const bool painted = !desc.floor.marks.empty();
   const float far = float(d.far), zcf = float(zc);
   for (int v = 0; v < h; ++v) {
     uint8_t* rgb = st.rgb.data() + size_t(v) * size_t(w) * 3;
@@ -75,28 +118,25 @@ void Engine::render_camera(uint32_t index) {
     const float below = float((v + 0.5) - cy);  // > 0: below the horizon
     for (int u = 0; u < w; ++u) {
       float dist = kNoDepth;
+      float inv_s = 0;
       if (below > 0) {
-        const float inv_s = float(camera_k[size_t(u)]) / below;
+        inv_s = float(camera_k[size_t(u)]) / below;
         const float len = zcf * std::sqrt(1 + inv_s * inv_s);
         if (len <= far) dist = len;
       }
-      const uint8_t* c = dist <= far ? ground : sky;
-      rgb[3 * u] = c[0];
-      rgb[3 * u + 1] = c[1];
-      rgb[3 * u + 2] = c[2];
+      uint32_t color = kSkyColor;
+      if (dist <= far) {
+        color = painted ? floor_color(desc.floor, o + double(zcf * inv_s) * ray_queries[size_t(u)].dir)
+                        : desc.floor.color;
+      }
+      put(rgb + 3 * u, color);
       dep[u] = dist;
     }
   }
 
   // Robots that may be in the image: within range, and for each the
   // columns its bounding circle covers, so a column tests only those.
-  candidates.clear();
-  hash.query(o, d.far, [&](uint32_t j) {
-    if (j != st.robot) candidates.push_back(j);
-  });
-  // In index order: spans at equal distances are then drawn in the same
-  // order on every run, whatever order the hash gave them in.
-  std::sort(candidates.begin(), candidates.end());
+  camera_candidates(st.robot, o, d.far);
   camera_cols.clear();
   for (uint32_t j : candidates) {
     const Body& b = bodies[j];
@@ -145,16 +185,12 @@ void Engine::render_camera(uint32_t index) {
       const double t = std::max(sp.t, 1e-6);
       const int top = row_at(cy - k * (sp.top - zc) / t, h);
       const int bottom = row_at(cy + k * zc / t, h);
-      const uint8_t r = uint8_t(sp.color >> 16), g = uint8_t(sp.color >> 8), b = uint8_t(sp.color);
       for (int v = top; v < bottom; ++v) {
         const double s = (cy - (v + 0.5)) / k;  // height per horizontal metre
         const double len = t * std::sqrt(1 + s * s);
         // What lies nearer than near or beyond far (seen steeply) is not seen.
         if (len > d.far || len < d.near) continue;
-        uint8_t* p = rgb + size_t(v) * rgb_stride;
-        p[0] = r;
-        p[1] = g;
-        p[2] = b;
+        put(rgb + size_t(v) * rgb_stride, sp.color);
         dep[size_t(v) * size_t(w)] = float(len);
       }
     }
@@ -162,6 +198,117 @@ void Engine::render_camera(uint32_t index) {
   st.width = w;
   st.height = h;
   st.step = steps;
+}
+
+void Engine::render_omni(CameraState& st, const CameraDesc& d) {
+  const int w = d.width, h = d.height;
+  const size_t n_px = size_t(w) * size_t(h);
+  st.rgb.resize(n_px * 3);
+  st.depth.resize(n_px);
+  const Pose at = compose(bodies[st.robot].pose, d.pose);
+  const Vec2 o{at.x, at.y};
+  const double cx = 0.5 * w, cy = 0.5 * h, zc = d.z;
+  const double rim = 0.5 * std::min(w, h);      // px: the mirror's edge
+  const double ground = d.mirror_ground * rim;  // px: the ground ring's edge
+  // Elevation of a ray meeting the floor at mirror_range: where the outer
+  // ring starts, so the image is continuous across the ring's edge.
+  const double low = -std::atan2(zc, d.mirror_range);
+
+  // One ray per pixel of the rim, counter-clockwise from the camera's
+  // forward: ray i looks at bearing 2 pi i / n.
+  const int n = std::max(8, int(std::ceil(2 * kPi * rim)));
+  const double per_ray = 2 * kPi / n;  // rad
+  ray_queries.clear();
+  for (int i = 0; i < n; ++i) {
+    const double a = at.a + per_ray * i;
+    ray_queries.push_back({o, {std::cos(a), std::sin(a)}, float(d.far)});
+  }
+  wall_ranges.resize(size_t(n));
+  map.cast_batch(ray_queries, StaticMap::kAnyMask, wall_ranges.data());
+
+  // Robots in range, with the rays their bounding circles cover: u0..u1,
+  // counted on from u0 around the circle (u0 may be negative).
+  camera_candidates(st.robot, o, d.far);
+  camera_cols.clear();
+  for (uint32_t j : candidates) {
+    const Body& b = bodies[j];
+    const double dx = b.pose.x - o.x, dy = b.pose.y - o.y, dist = std::hypot(dx, dy);
+    if (dist - b.radius > d.far) continue;
+    int u0 = 0, u1 = n - 1;
+    if (dist > b.radius) {
+      const double bearing = wrap_angle(std::atan2(dy, dx) - at.a);
+      const double half = std::asin(b.radius / dist);
+      u0 = int(std::floor((bearing - half) / per_ray)) - 1;
+      u1 = std::min(u0 + n - 1, int(std::ceil((bearing + half) / per_ray)) + 1);
+    }
+    camera_cols.push_back({j, u0, u1});
+  }
+
+  // Each ray's spans, nearest first.
+  omni_spans.clear();
+  omni_first.assign(size_t(n) + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    const Vec2 dir = ray_queries[size_t(i)].dir;
+    spans.clear();
+    const double wall = wall_ranges[size_t(i)];
+    if (wall < d.far) {
+      const StaticInfo* hit = static_at(o + (wall + 0.5 * map.resolution()) * dir);
+      spans.push_back({wall, hit ? hit->look.height : 1.0, hit ? hit->look.color : 0});
+    }
+    for (const CameraCandidate& c : camera_cols) {
+      if (((i - c.u0) % n + n) % n > c.u1 - c.u0) continue;
+      const double t = ray_robot(c.robot, o, dir);
+      if (t >= 0 && t < wall && t < d.far) {
+        spans.push_back({t, desc.robots[c.robot].look.height, desc.robots[c.robot].look.color});
+      }
+    }
+    std::stable_sort(spans.begin(), spans.end(), [](const Span& x, const Span& y) { return x.t < y.t; });
+    omni_spans.insert(omni_spans.end(), spans.begin(), spans.end());
+    omni_first[size_t(i) + 1] = uint32_t(omni_spans.size());
+  }
+
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const size_t px = size_t(v) * size_t(w) + size_t(u);
+      const double x = u + 0.5 - cx, y = v + 0.5 - cy;  // px right of and below the centre
+      const double r = std::hypot(x, y);
+      uint32_t color = 0;  // outside the mirror: black
+      float dist = kNoDepth;
+      if (r <= rim) {
+        // s: how many metres the pixel's ray climbs per horizontal metre.
+        // In the ground ring it meets the floor r / ground * mirror_range
+        // away; beyond it, its elevation grows linearly with r.
+        const double s = r <= ground ? -zc / std::max(r / ground * d.mirror_range, 1e-9)
+                                     : std::tan(low + (r - ground) / (rim - ground) * (d.mirror_top - low));
+        const double stretch = std::sqrt(1 + s * s);  // ray length per horizontal metre
+        // Forward is up, left is left: the bearing left of forward.
+        int ray = int(std::lround(std::atan2(-x, -y) / per_ray));
+        if (ray < 0) ray += n;
+        if (ray >= n) ray -= n;
+        color = kSkyColor;
+        bool seen = false;
+        for (uint32_t k = omni_first[size_t(ray)]; k < omni_first[size_t(ray) + 1]; ++k) {
+          const Span& sp = omni_spans[k];
+          const double z = zc + s * sp.t, len = sp.t * stretch;
+          if (len > d.far) break;
+          if (z < 0 || z > sp.top || len < d.near) continue;
+          color = sp.color;
+          dist = float(len);
+          seen = true;
+          break;
+        }
+        if (!seen && s < 0) {
+          const double g = -zc / s, len = g * stretch;  // m: horizontal, along the ray
+          if (len <= d.far) {
+            color = floor_color(desc.floor, o + g * ray_queries[size_t(ray)].dir);
+            dist = float(len);
+          }
+        }
+      }
+      put(st.rgb.data() + 3 * px, color);
+      st.depth[px] = dist;
+    }
+  }
 }
 
 }  // namespace troupe::sim

@@ -160,6 +160,10 @@ struct Engine {
   // camera.cc
   void update_cameras();
   void render_camera(uint32_t index);
+  void render_omni(CameraState& st, const CameraDesc& d);
+  /// Robots other than the camera's own that may be within `far` m of `o`,
+  /// in index order (into `candidates`).
+  void camera_candidates(RobotId own, Vec2 o, double far);
 
   void update_sensors();
   void publish_states();
@@ -212,7 +216,7 @@ struct Engine {
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
   struct Span {
-    double t;  // m along the column's horizontal direction
+    double t;    // m along the column's horizontal direction
     double top;  // m above the floor
     uint32_t color;
   };
@@ -225,6 +229,10 @@ struct Engine {
     int u0, u1;  // columns, inclusive
   };
   std::vector<CameraCandidate> camera_cols;
+  // An omni camera's spans, nearest first, for each of its rays:
+  // omni_spans[omni_first[i] .. omni_first[i + 1]).
+  std::vector<Span> omni_spans;
+  std::vector<uint32_t> omni_first;
 };
 
 }  // namespace troupe::sim

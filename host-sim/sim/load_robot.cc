@@ -290,9 +290,8 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   if (read_.tuple(e, "resolution", "ff", res) > 0 &&
       !(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxCameraSide && res[1] <= kMaxCameraSide &&
         res[0] == std::floor(res[0]) && res[1] == std::floor(res[1]))) {
-    diags().error(e.find("resolution")->loc,
-                  "camera resolution must be whole numbers of pixels, 1.." + std::to_string(kMaxCameraSide) +
-                      " each way");
+    diags().error(e.find("resolution")->loc, "camera resolution must be whole numbers of pixels, 1.." +
+                                                 std::to_string(kMaxCameraSide) + " each way");
     return;
   }
   d.width = int(res[0]);
@@ -306,7 +305,8 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   d.far = range[1];
   double fov[2] = {d.hfov, d.vfov};
   if (read_.tuple(e, "fov", "aa", fov) > 0 && !(fov[0] > 0 && fov[0] < kPi && fov[1] > 0 && fov[1] < kPi)) {
-    diags().error(e.find("fov")->loc, "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
+    diags().error(e.find("fov")->loc,
+                  "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
     return;
   }
   d.hfov = fov[0];
@@ -319,6 +319,7 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   }
   d.pose = {at.x, at.y, at.a + pantilt[0]};
   d.tilt = pantilt[1];
+  if (!omni_mirror(e, d)) return;
   if (e.find("size") != nullptr) {  // else Stage's camera size, not a model's
     d.size = c.size;
     d.size_z = c.look.height;
@@ -326,6 +327,35 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   // Stage stacks a model on its parent: the camera sits on top of the robot.
   d.z = r.look.height + 0.5 * d.size_z;
   r.cameras.push_back(d);
+}
+
+bool Loader::omni_mirror(const Entity& e, CameraDesc& d) {
+  const std::optional<std::string> mirror = read_.string(e, "mirror");
+  if (!mirror) return true;
+  if (*mirror != "isometric") {
+    diags().error(e.find("mirror")->loc,
+                  "camera mirror '" + *mirror + "': the one mirror modelled is \"isometric\"");
+    return false;
+  }
+  d.projection = CameraProjection::Omni;
+  if (e.find("resolution") == nullptr) d.width = d.height = kOmniDefaultSide;
+  d.mirror_range = read_.length(e, "mirror_range", d.mirror_range);
+  d.mirror_ground = read_.number(e, "mirror_ground", d.mirror_ground);
+  d.mirror_top = read_.angle(e, "mirror_top", d.mirror_top);
+  if (!(d.mirror_range > 0)) {
+    diags().error(e.find("mirror_range")->loc, "camera mirror_range must be above 0 (m)");
+    return false;
+  }
+  if (!(d.mirror_ground > 0 && d.mirror_ground <= 1)) {
+    diags().error(e.find("mirror_ground")->loc,
+                  "camera mirror_ground must be in (0, 1] (of the image's half side)");
+    return false;
+  }
+  if (!(d.mirror_top > -kPi / 2 && d.mirror_top < kPi / 2)) {
+    diags().error(e.find("mirror_top")->loc, "camera mirror_top must be within +-90 degrees");
+    return false;
+  }
+  return true;
 }
 
 void Loader::power(const Entity& e, RobotDesc& r) {
