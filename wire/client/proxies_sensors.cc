@@ -11,7 +11,9 @@ using wire::Interface;
 RangerProxy::RangerProxy(Client& client, uint16_t index, uint16_t robot)
     : RangerProxy(client, address_of(Interface::Ranger, index, robot)) {}
 
-RangerProxy::RangerProxy(Client& client, const wire::Address& addr) : Proxy(client, addr) { attach(); }
+RangerProxy::RangerProxy(Client& client, const wire::Address& addr) : Proxy(client, addr) {
+  attach();
+}
 
 void RangerProxy::update(const wire::Message& msg) {
   const wire::RangerScan* s = msg.body_as_RangerScan();
@@ -51,7 +53,9 @@ PowerProxy::PowerProxy(Client& client, uint16_t index, uint16_t robot)
 void PowerProxy::update(const wire::Message& msg) {
   const wire::PowerState* s = msg.body_as_PowerState();
   if (s == nullptr) return;
-  auto get = [](const flatbuffers::Optional<float>& v) { return v ? std::optional<float>(*v) : std::nullopt; };
+  auto get = [](const flatbuffers::Optional<float>& v) {
+    return v ? std::optional<float>(*v) : std::nullopt;
+  };
   volts_ = get(s->volts());
   percent_ = get(s->percent());
   watts_ = get(s->watts());
@@ -136,12 +140,18 @@ bool CameraProxy::geometry(CameraModel& out) {
   out.cy = g->cy();
   out.near = g->near();
   out.far = g->far();
+  out.projection = g->projection();
+  out.ground_radius = g->ground_radius();
+  out.rim_radius = g->rim_radius();
+  out.mirror_range = g->mirror_range();
+  out.rim_elevation = g->rim_elevation();
   return true;
 }
 
 bool CameraProxy::configure(CameraSettings& want) {
   auto& b = client().begin();
-  auto body = wire::CreateCameraConfig(b, uint16_t(want.width), uint16_t(want.height), want.rate, want.format);
+  auto body =
+      wire::CreateCameraConfig(b, uint16_t(want.width), uint16_t(want.height), want.rate, want.format);
   Reply r = request(uint8_t(wire::CameraReqSub::SetConfig), wire::Body::CameraConfig, body.Union());
   const wire::CameraConfig* c = r.ok() ? r.message()->body_as_CameraConfig() : nullptr;
   if (c == nullptr) return false;
