@@ -37,18 +37,22 @@ void put(uint8_t* p, uint32_t color) {
 }  // namespace
 
 uint32_t floor_color(const FloorDesc& floor, Vec2 p) {
+  // Squared distances, so the test per mark takes no square root (this runs
+  // for every floor pixel).
   uint32_t color = floor.color;
   for (const FloorMark& m : floor.marks) {
-    double off;  // m from the stroke's centre line
+    const double half = 0.5 * m.width;
+    bool on;
     if (m.radius > 0) {
-      off = std::fabs(length(p - m.a) - m.radius);
+      const double d2 = length_squared(p - m.a), inner = std::max(0.0, m.radius - half);
+      on = d2 >= inner * inner && d2 <= (m.radius + half) * (m.radius + half);
     } else {
       const Vec2 ab = m.b - m.a;
       const double l2 = dot(ab, ab);
       const double f = l2 > 0 ? std::clamp(dot(p - m.a, ab) / l2, 0.0, 1.0) : 0.0;
-      off = length(p - (m.a + f * ab));
+      on = length_squared(p - (m.a + f * ab)) <= half * half;
     }
-    if (off <= 0.5 * m.width) color = m.color;
+    if (on) color = m.color;
   }
   return color;
 }
@@ -207,12 +211,8 @@ void Engine::render_omni(CameraState& st, const CameraDesc& d) {
   st.depth.resize(n_px);
   const Pose at = compose(bodies[st.robot].pose, d.pose);
   const Vec2 o{at.x, at.y};
-  const double cx = 0.5 * w, cy = 0.5 * h, zc = d.z;
-  const double rim = 0.5 * std::min(w, h);      // px: the mirror's edge
-  const double ground = d.mirror_ground * rim;  // px: the ground ring's edge
-  // Elevation of a ray meeting the floor at mirror_range: where the outer
-  // ring starts, so the image is continuous across the ring's edge.
-  const double low = -std::atan2(zc, d.mirror_range);
+  const double zc = d.z;
+  const double rim = 0.5 * std::min(w, h);  // px: the mirror's edge
 
   // One ray per pixel of the rim, counter-clockwise from the camera's
   // forward: ray i looks at bearing 2 pi i / n.
@@ -267,46 +267,70 @@ void Engine::render_omni(CameraState& st, const CameraDesc& d) {
     omni_first[size_t(i) + 1] = uint32_t(omni_spans.size());
   }
 
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const size_t px = size_t(v) * size_t(w) + size_t(u);
-      const double x = u + 0.5 - cx, y = v + 0.5 - cy;  // px right of and below the centre
-      const double r = std::hypot(x, y);
-      uint32_t color = 0;  // outside the mirror: black
-      float dist = kNoDepth;
-      if (r <= rim) {
-        // s: how many metres the pixel's ray climbs per horizontal metre.
-        // In the ground ring it meets the floor r / ground * mirror_range
-        // away; beyond it, its elevation grows linearly with r.
-        const double s = r <= ground ? -zc / std::max(r / ground * d.mirror_range, 1e-9)
-                                     : std::tan(low + (r - ground) / (rim - ground) * (d.mirror_top - low));
-        const double stretch = std::sqrt(1 + s * s);  // ray length per horizontal metre
-        // Forward is up, left is left: the bearing left of forward.
-        int ray = int(std::lround(std::atan2(-x, -y) / per_ray));
-        if (ray < 0) ray += n;
-        if (ray >= n) ray -= n;
-        color = kSkyColor;
-        bool seen = false;
-        for (uint32_t k = omni_first[size_t(ray)]; k < omni_first[size_t(ray) + 1]; ++k) {
-          const Span& sp = omni_spans[k];
-          const double z = zc + s * sp.t, len = sp.t * stretch;
-          if (len > d.far) break;
-          if (z < 0 || z > sp.top || len < d.near) continue;
-          color = sp.color;
+  omni_map(d, n);
+  for (size_t px = 0; px < n_px; ++px) {
+    const OmniPixel& p = omni_pixels[px];
+    uint32_t color = 0;  // beyond the mirror's rim: black
+    float dist = kNoDepth;
+    if (p.ray >= 0) {
+      const double s = p.rise, stretch = p.stretch;
+      color = kSkyColor;
+      bool seen = false;
+      for (uint32_t k = omni_first[size_t(p.ray)]; k < omni_first[size_t(p.ray) + 1]; ++k) {
+        const Span& sp = omni_spans[k];
+        const double z = zc + s * sp.t, len = sp.t * stretch;
+        if (len > d.far) break;
+        if (z < 0 || z > sp.top || len < d.near) continue;
+        color = sp.color;
+        dist = float(len);
+        seen = true;
+        break;
+      }
+      if (!seen && s < 0) {
+        const double g = -zc / s, len = g * stretch;  // m: horizontal, along the ray
+        if (len <= d.far) {
+          color = floor_color(desc.floor, o + g * ray_queries[size_t(p.ray)].dir);
           dist = float(len);
-          seen = true;
-          break;
-        }
-        if (!seen && s < 0) {
-          const double g = -zc / s, len = g * stretch;  // m: horizontal, along the ray
-          if (len <= d.far) {
-            color = floor_color(desc.floor, o + g * ray_queries[size_t(ray)].dir);
-            dist = float(len);
-          }
         }
       }
-      put(st.rgb.data() + 3 * px, color);
-      st.depth[px] = dist;
+    }
+    put(st.rgb.data() + 3 * px, color);
+    st.depth[px] = dist;
+  }
+}
+
+void Engine::omni_map(const CameraDesc& d, int n) {
+  const std::array<double, 7> key = {double(d.width), double(d.height), d.z,      d.mirror_range,
+                                     d.mirror_ground, d.mirror_top,     double(n)};
+  if (key == omni_pixels_for && !omni_pixels.empty()) return;
+  omni_pixels_for = key;
+  const int w = d.width, h = d.height;
+  omni_pixels.resize(size_t(w) * size_t(h));
+  const double cx = 0.5 * w, cy = 0.5 * h, zc = d.z;
+  const double rim = 0.5 * std::min(w, h);      // px: the mirror's edge
+  const double ground = d.mirror_ground * rim;  // px: the ground ring's edge
+  // Elevation of a ray meeting the floor at mirror_range: where the outer
+  // ring starts, so the image is continuous across the ring's edge.
+  const double low = -std::atan2(zc, d.mirror_range);
+  const double per_ray = 2 * kPi / n;  // rad
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      OmniPixel& p = omni_pixels[size_t(v) * size_t(w) + size_t(u)];
+      const double x = u + 0.5 - cx, y = v + 0.5 - cy;  // px right of and below the centre
+      const double r = std::hypot(x, y);
+      if (r > rim) {
+        p = {-1, 0, 0};
+        continue;
+      }
+      // In the ground ring the ray meets the floor r / ground * mirror_range
+      // away; beyond it, its elevation grows linearly with r.
+      const double s = r <= ground ? -zc / std::max(r / ground * d.mirror_range, 1e-9)
+                                   : std::tan(low + (r - ground) / (rim - ground) * (d.mirror_top - low));
+      // Forward is up, left is left: the bearing left of forward.
+      int ray = int(std::lround(std::atan2(-x, -y) / per_ray));
+      if (ray < 0) ray += n;
+      if (ray >= n) ray -= n;
+      p = {ray, float(s), float(std::sqrt(1 + s * s))};
     }
   }
 }

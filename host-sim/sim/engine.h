@@ -3,6 +3,7 @@
 // per-step data (Body) is kept apart from what the step rarely reads.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -233,6 +234,17 @@ struct Engine {
   // omni_spans[omni_first[i] .. omni_first[i + 1]).
   std::vector<Span> omni_spans;
   std::vector<uint32_t> omni_first;
+  // What an omni camera's pixels look along, which depends only on its
+  // description: kept for the last description seen (cameras of a world
+  // mostly share one), rebuilt when another comes.
+  struct OmniPixel {
+    int32_t ray;    // index into the rays; -1 beyond the mirror's rim
+    float rise;     // m the pixel's ray climbs per horizontal metre
+    float stretch;  // m along the ray per horizontal metre
+  };
+  std::vector<OmniPixel> omni_pixels;
+  std::array<double, 7> omni_pixels_for{};
+  void omni_map(const CameraDesc& d, int rays);
 };
 
 }  // namespace troupe::sim
