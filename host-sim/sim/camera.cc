@@ -13,6 +13,7 @@
 // taller one behind it above its top: the sky shows there).
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "host-sim/sim/engine.h"
 
@@ -114,28 +115,43 @@ void Engine::render_camera(uint32_t index) {
   // ray climbs s = (cy - v) / k metres per horizontal metre, so it meets
   // the floor zc / -s horizontal metres away and its length is
   // zc sqrt(1 + 1 / s^2).
-  const bool painted = !desc.floor.marks.empty();
+  // An unpainted floor is one colour: its loop stays as lean as the sky's
+  // (this fill is a good part of a pinhole image's cost).
+  const uint8_t sky[3] = {uint8_t(kSkyColor >> 16), uint8_t(kSkyColor >> 8), uint8_t(kSkyColor)};
+  const uint32_t plain = desc.floor.color;
+  const uint8_t ground[3] = {uint8_t(plain >> 16), uint8_t(plain >> 8), uint8_t(plain)};
   const float far = float(d.far), zcf = float(zc);
-  for (int v = 0; v < h; ++v) {
-    uint8_t* rgb = st.rgb.data() + size_t(v) * size_t(w) * 3;
-    float* dep = st.depth.data() + size_t(v) * size_t(w);
-    const float below = float((v + 0.5) - cy);  // > 0: below the horizon
-    for (int u = 0; u < w; ++u) {
-      float dist = kNoDepth;
-      float inv_s = 0;
-      if (below > 0) {
-        inv_s = float(camera_k[size_t(u)]) / below;
-        const float len = zcf * std::sqrt(1 + inv_s * inv_s);
-        if (len <= far) dist = len;
+  auto fill = [&](auto painted) {
+    for (int v = 0; v < h; ++v) {
+      uint8_t* rgb = st.rgb.data() + size_t(v) * size_t(w) * 3;
+      float* dep = st.depth.data() + size_t(v) * size_t(w);
+      const float below = float((v + 0.5) - cy);  // > 0: below the horizon
+      for (int u = 0; u < w; ++u) {
+        float dist = kNoDepth;
+        float inv_s = 0;
+        if (below > 0) {
+          inv_s = float(camera_k[size_t(u)]) / below;
+          const float len = zcf * std::sqrt(1 + inv_s * inv_s);
+          if (len <= far) dist = len;
+        }
+        if constexpr (decltype(painted)::value) {
+          put(rgb + 3 * u, dist <= far
+                               ? floor_color(desc.floor, o + double(zcf * inv_s) * ray_queries[size_t(u)].dir)
+                               : kSkyColor);
+        } else {
+          const uint8_t* c = dist <= far ? ground : sky;
+          rgb[3 * u] = c[0];
+          rgb[3 * u + 1] = c[1];
+          rgb[3 * u + 2] = c[2];
+        }
+        dep[u] = dist;
       }
-      uint32_t color = kSkyColor;
-      if (dist <= far) {
-        color = painted ? floor_color(desc.floor, o + double(zcf * inv_s) * ray_queries[size_t(u)].dir)
-                        : desc.floor.color;
-      }
-      put(rgb + 3 * u, color);
-      dep[u] = dist;
     }
+  };
+  if (desc.floor.marks.empty()) {
+    fill(std::false_type{});
+  } else {
+    fill(std::true_type{});
   }
 
   // Robots that may be in the image: within range, and for each the

@@ -238,5 +238,26 @@ TEST(OmniCamera, BadMirrorValuesAreErrorsWithFileAndLine) {
   EXPECT_NE(diags.str().find("mirror_range"), std::string::npos) << diags.str();
 }
 
+TEST(OmniCamera, TheExampleWorldLoadsWithoutWarningsAndSeesItsGoalsAndRobots) {
+  world::Diagnostics diags;
+  auto w = World::load(std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/omni.world", 1, diags);
+  ASSERT_TRUE(w) << diags.str();
+  EXPECT_EQ(diags.str(), "");
+  const CameraDesc& c = w->camera_desc(w->robot(0).cameras.first);
+  ASSERT_EQ(c.projection, CameraProjection::Omni);
+  const CameraView v = render(*w, w->robot(0).cameras.first);
+  ASSERT_EQ(v.width, 160);
+  const Isometric m(c);
+  // The camera is 0.6 + 0.1 m up. Level rays (elevation 0) meet the yellow
+  // goal ahead (4.3 m) and the blue one behind; the 0.6 m robots are lower.
+  const double level = m.radius_of_elevation(0);
+  EXPECT_EQ(pixel(v, m.u(0, level), m.v(0, level)), 0xFFFF00u);
+  EXPECT_EQ(pixel(v, m.u(kPi, level), m.v(kPi, level)), 0x0000FFu);
+  // The opponent (magenta), its centre 2 m ahead and 1 m to the right: the
+  // floor just beyond its near face is hidden by it.
+  const double bearing = std::atan2(-1.0, 2.0), r = m.radius_of_floor(std::hypot(2.0, 1.0));
+  EXPECT_EQ(pixel(v, m.u(bearing, r), m.v(bearing, r)), 0xFF00FFu);
+}
+
 }  // namespace
 }  // namespace troupe::sim
