@@ -58,7 +58,8 @@ uint32_t floor_color(const FloorDesc& floor, Vec2 p) {
   return color;
 }
 
-void Engine::camera_candidates(RobotId own, Vec2 o, double far) {
+void Engine::camera_sights(RobotId own, const Pose& at, double far) {
+  const Vec2 o{at.x, at.y};
   candidates.clear();
   hash.query(o, far, [&](uint32_t j) {
     if (j != own) candidates.push_back(j);
@@ -66,6 +67,32 @@ void Engine::camera_candidates(RobotId own, Vec2 o, double far) {
   // In index order: spans at equal distances are then drawn in the same
   // order on every run, whatever order the hash gave them in.
   std::sort(candidates.begin(), candidates.end());
+  sights.clear();
+  for (uint32_t j : candidates) {
+    const Body& b = bodies[j];
+    const double dx = b.pose.x - o.x, dy = b.pose.y - o.y, dist = std::hypot(dx, dy);
+    if (dist - b.radius > far) continue;
+    if (dist <= b.radius) {
+      sights.push_back({j, 0, 0, true});
+    } else {
+      sights.push_back({j, wrap_angle(std::atan2(dy, dx) - at.a), std::asin(b.radius / dist), false});
+    }
+  }
+}
+
+void Engine::ray_spans(Vec2 o, Vec2 dir, double wall, double far, int ray, int rays) {
+  spans.clear();
+  if (wall < far) {
+    const StaticInfo* hit = static_at(o + (wall + 0.5 * map.resolution()) * dir);
+    spans.push_back({wall, hit ? hit->look.height : 1.0, hit ? hit->look.color : 0});
+  }
+  for (const CameraCandidate& c : camera_cols) {
+    if (((ray - c.u0) % rays + rays) % rays > c.u1 - c.u0) continue;
+    const double t = ray_robot(c.robot, o, dir);
+    if (t >= 0 && t < wall && t < far) {
+      spans.push_back({t, desc.robots[c.robot].look.height, desc.robots[c.robot].look.color});
+    }
+  }
 }
 
 void Engine::update_cameras() {
@@ -156,18 +183,13 @@ void Engine::render_camera(uint32_t index) {
 
   // Robots that may be in the image: within range, and for each the
   // columns its bounding circle covers, so a column tests only those.
-  camera_candidates(st.robot, o, d.far);
+  camera_sights(st.robot, at, d.far);
   camera_cols.clear();
-  for (uint32_t j : candidates) {
-    const Body& b = bodies[j];
-    const double dx = b.pose.x - o.x, dy = b.pose.y - o.y, dist = std::hypot(dx, dy);
-    if (dist - b.radius > d.far) continue;
+  for (const CameraSight& c : sights) {
     int u0 = 0, u1 = w - 1;
-    if (dist > b.radius) {
-      const double bearing = wrap_angle(std::atan2(dy, dx) - at.a);
-      const double half = std::asin(b.radius / dist);
-      const double lo = bearing - half, hi = bearing + half;  // rad, left positive
-      if (hi <= -kPi / 2 || lo >= kPi / 2) continue;          // behind the camera
+    if (!c.around) {
+      const double lo = c.bearing - c.half, hi = c.bearing + c.half;  // rad, left positive
+      if (hi <= -kPi / 2 || lo >= kPi / 2) continue;                  // behind the camera
       // Column x = cx - fx tan(bearing): the left edge (hi) has the smaller x.
       const double x_left = hi >= kPi / 2 ? -1e9 : cx - fx * std::tan(hi);
       const double x_right = lo <= -kPi / 2 ? 1e9 : cx - fx * std::tan(lo);
@@ -175,7 +197,7 @@ void Engine::render_camera(uint32_t index) {
       u0 = int(std::max(0.0, std::floor(x_left - 1)));
       u1 = int(std::min(double(w - 1), std::ceil(x_right + 1)));
     }
-    camera_cols.push_back({j, u0, u1});
+    camera_cols.push_back({c.robot, u0, u1});
   }
 
   wall_ranges.resize(size_t(w));
@@ -184,19 +206,7 @@ void Engine::render_camera(uint32_t index) {
   for (int u = 0; u < w; ++u) {
     const Vec2 dir = ray_queries[size_t(u)].dir;
     const double k = camera_k[size_t(u)];
-    spans.clear();
-    const double wall = wall_ranges[size_t(u)];
-    if (wall < d.far) {
-      const StaticInfo* hit = static_at(o + (wall + 0.5 * map.resolution()) * dir);
-      spans.push_back({wall, hit ? hit->look.height : 1.0, hit ? hit->look.color : 0});
-    }
-    for (const CameraCandidate& c : camera_cols) {
-      if (u < c.u0 || u > c.u1) continue;
-      const double t = ray_robot(c.robot, o, dir);
-      if (t >= 0 && t < wall && t < d.far) {
-        spans.push_back({t, desc.robots[c.robot].look.height, desc.robots[c.robot].look.color});
-      }
-    }
+    ray_spans(o, dir, wall_ranges[size_t(u)], d.far, u, w);
     // Farthest first: nearer spans cover farther ones.
     std::stable_sort(spans.begin(), spans.end(), [](const Span& x, const Span& y) { return x.t > y.t; });
     uint8_t* rgb = st.rgb.data() + size_t(u) * 3;
@@ -244,40 +254,22 @@ void Engine::render_omni(CameraState& st, const CameraDesc& d) {
 
   // Robots in range, with the rays their bounding circles cover: u0..u1,
   // counted on from u0 around the circle (u0 may be negative).
-  camera_candidates(st.robot, o, d.far);
+  camera_sights(st.robot, at, d.far);
   camera_cols.clear();
-  for (uint32_t j : candidates) {
-    const Body& b = bodies[j];
-    const double dx = b.pose.x - o.x, dy = b.pose.y - o.y, dist = std::hypot(dx, dy);
-    if (dist - b.radius > d.far) continue;
+  for (const CameraSight& c : sights) {
     int u0 = 0, u1 = n - 1;
-    if (dist > b.radius) {
-      const double bearing = wrap_angle(std::atan2(dy, dx) - at.a);
-      const double half = std::asin(b.radius / dist);
-      u0 = int(std::floor((bearing - half) / per_ray)) - 1;
-      u1 = std::min(u0 + n - 1, int(std::ceil((bearing + half) / per_ray)) + 1);
+    if (!c.around) {
+      u0 = int(std::floor((c.bearing - c.half) / per_ray)) - 1;
+      u1 = std::min(u0 + n - 1, int(std::ceil((c.bearing + c.half) / per_ray)) + 1);
     }
-    camera_cols.push_back({j, u0, u1});
+    camera_cols.push_back({c.robot, u0, u1});
   }
 
   // Each ray's spans, nearest first.
   omni_spans.clear();
   omni_first.assign(size_t(n) + 1, 0);
   for (int i = 0; i < n; ++i) {
-    const Vec2 dir = ray_queries[size_t(i)].dir;
-    spans.clear();
-    const double wall = wall_ranges[size_t(i)];
-    if (wall < d.far) {
-      const StaticInfo* hit = static_at(o + (wall + 0.5 * map.resolution()) * dir);
-      spans.push_back({wall, hit ? hit->look.height : 1.0, hit ? hit->look.color : 0});
-    }
-    for (const CameraCandidate& c : camera_cols) {
-      if (((i - c.u0) % n + n) % n > c.u1 - c.u0) continue;
-      const double t = ray_robot(c.robot, o, dir);
-      if (t >= 0 && t < wall && t < d.far) {
-        spans.push_back({t, desc.robots[c.robot].look.height, desc.robots[c.robot].look.color});
-      }
-    }
+    ray_spans(o, ray_queries[size_t(i)].dir, wall_ranges[size_t(i)], d.far, i, n);
     std::stable_sort(spans.begin(), spans.end(), [](const Span& x, const Span& y) { return x.t < y.t; });
     omni_spans.insert(omni_spans.end(), spans.begin(), spans.end());
     omni_first[size_t(i) + 1] = uint32_t(omni_spans.size());

@@ -162,9 +162,13 @@ struct Engine {
   void update_cameras();
   void render_camera(uint32_t index);
   void render_omni(CameraState& st, const CameraDesc& d);
-  /// Robots other than the camera's own that may be within `far` m of `o`,
-  /// in index order (into `candidates`).
-  void camera_candidates(RobotId own, Vec2 o, double far);
+  /// Robots other than the camera's own within `far` m of the camera at
+  /// `at` (world), in index order, with where they are seen (into `sights`).
+  void camera_sights(RobotId own, const Pose& at, double far);
+  /// A camera ray's spans (into `spans`, unsorted): the first wall, `wall`
+  /// m away, and the robots of camera_cols covering ray `ray` of `rays`
+  /// that it meets before the wall, within `far` m.
+  void ray_spans(Vec2 o, Vec2 dir, double wall, double far, int ray, int rays);
 
   void update_sensors();
   void publish_states();
@@ -230,6 +234,12 @@ struct Engine {
     int u0, u1;  // columns, inclusive
   };
   std::vector<CameraCandidate> camera_cols;
+  struct CameraSight {
+    RobotId robot;
+    double bearing, half;  // rad: its centre left of the camera's forward; its half width
+    bool around;           // the camera stands in its bounding circle
+  };
+  std::vector<CameraSight> sights;
   // An omni camera's spans, nearest first, for each of its rays:
   // omni_spans[omni_first[i] .. omni_first[i + 1]).
   std::vector<Span> omni_spans;
