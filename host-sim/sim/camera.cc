@@ -104,18 +104,18 @@ void Engine::update_cameras() {
 void Engine::render_camera(uint32_t index) {
   CameraState& st = cameras[index];
   const CameraDesc& d = desc.robots[st.robot].cameras[index - info[st.robot].cameras.first];
-  if (d.projection == CameraProjection::Omni) {
-    render_omni(st, d);
-    st.width = d.width;
-    st.height = d.height;
-    st.step = steps;
-    return;
-  }
   const int w = d.width, h = d.height;
   const size_t n = size_t(w) * size_t(h);
   st.rgb.resize(n * 3);
   st.depth.resize(n);
   const Pose at = compose(bodies[st.robot].pose, d.pose);
+  st.width = w;
+  st.height = h;
+  st.step = steps;
+  if (d.projection == CameraProjection::Omni) {
+    render_omni(st, d, at);
+    return;
+  }
   const Vec2 o{at.x, at.y};
   // Pinhole intrinsics from the fields of view, principal point at the
   // image centre, shifted by the tilt.
@@ -225,17 +225,11 @@ void Engine::render_camera(uint32_t index) {
       }
     }
   }
-  st.width = w;
-  st.height = h;
-  st.step = steps;
 }
 
-void Engine::render_omni(CameraState& st, const CameraDesc& d) {
+void Engine::render_omni(CameraState& st, const CameraDesc& d, const Pose& at) {
   const int w = d.width, h = d.height;
   const size_t n_px = size_t(w) * size_t(h);
-  st.rgb.resize(n_px * 3);
-  st.depth.resize(n_px);
-  const Pose at = compose(bodies[st.robot].pose, d.pose);
   const Vec2 o{at.x, at.y};
   const double zc = d.z;
   const double rim = 0.5 * std::min(w, h);  // px: the mirror's edge

@@ -161,7 +161,8 @@ struct Engine {
   // camera.cc
   void update_cameras();
   void render_camera(uint32_t index);
-  void render_omni(CameraState& st, const CameraDesc& d);
+  /// Renders into st's buffers, already sized; `at`: the camera, world frame.
+  void render_omni(CameraState& st, const CameraDesc& d, const Pose& at);
   /// Robots other than the camera's own within `far` m of the camera at
   /// `at` (world), in index order, with where they are seen (into `sights`).
   void camera_sights(RobotId own, const Pose& at, double far);

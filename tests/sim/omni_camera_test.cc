@@ -167,22 +167,9 @@ TEST(OmniCamera, SameSeedAndWorldGiveTheSameBytes) {
   auto run = [](double heading) {
     WorldDesc d = box_scene(0.5, 2.0);
     d.floor.marks.push_back({{1, -5}, {1, 5}, 0, 0.1, kWhite});
-    for (int i = 0; i < 6; ++i) {
-      RobotDesc r = test::robot("r" + std::to_string(i), {-1.5 + 0.7 * i, -2.0 + 0.8 * i, 0.3 * i});
-      r.look.color = 0x00FF00u + uint32_t(i) * 0x20u;
-      r.look.height = 0.3 + 0.2 * i;
-      d.robots.push_back(r);
-    }
+    test::add_movers(d, -1.5);
     d.robots[0].pose.a = heading;
-    World w(d, Random(42));
-    w.set_wanted({SensorKind::Camera, 0}, true);
-    for (RobotId r = 1; r < w.robot_count(); ++r) w.command(r, Command::velocity(0.2, 0, 0.3));
-    for (int s = 0; s < 20; ++s) w.step();
-    const CameraView v = w.camera(0);
-    std::vector<uint8_t> bytes(v.rgb.begin(), v.rgb.end());
-    const auto* f = reinterpret_cast<const uint8_t*>(v.depth.data());
-    bytes.insert(bytes.end(), f, f + v.depth.size() * sizeof(float));
-    return bytes;
+    return test::camera_bytes_after_steps(d);
   };
   const std::vector<uint8_t> a = run(0), b = run(0), c = run(0.2);
   ASSERT_EQ(a.size(), 160u * 160u * 7u);
