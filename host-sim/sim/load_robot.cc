@@ -290,8 +290,9 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   if (read_.tuple(e, "resolution", "ff", res) > 0 &&
       !(res[0] >= 1 && res[1] >= 1 && res[0] <= kMaxCameraSide && res[1] <= kMaxCameraSide &&
         res[0] == std::floor(res[0]) && res[1] == std::floor(res[1]))) {
-    diags().error(e.find("resolution")->loc, "camera resolution must be whole numbers of pixels, 1.." +
-                                                 std::to_string(kMaxCameraSide) + " each way");
+    diags().error(e.find("resolution")->loc,
+                  "camera resolution must be whole numbers of pixels, 1.." + std::to_string(kMaxCameraSide) +
+                      " each way");
     return;
   }
   d.width = int(res[0]);
@@ -305,8 +306,7 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   d.far = range[1];
   double fov[2] = {d.hfov, d.vfov};
   if (read_.tuple(e, "fov", "aa", fov) > 0 && !(fov[0] > 0 && fov[0] < kPi && fov[1] > 0 && fov[1] < kPi)) {
-    diags().error(e.find("fov")->loc,
-                  "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
+    diags().error(e.find("fov")->loc, "camera fov [horizontal vertical] must each be above 0 and below 180 degrees");
     return;
   }
   d.hfov = fov[0];

@@ -1,12 +1,12 @@
 // The one paced loop: flat out it steps until done, answering the network
 // between steps without waiting; paused it only serves, waiting at most
 // kMaxWaitUs; a step request's speed change or a stop takes effect at once.
-#include "host-sim/sim_control/pacing.h"
-
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <vector>
+
+#include "host-sim/sim_control/pacing.h"
 
 namespace troupe::sim {
 namespace {

@@ -188,8 +188,9 @@ TEST_F(SimProcess, SteppingPastTheQuitTimeEndsTheRunAndSaysSo) {
 // loopback lets any machine that reaches the port drive every robot, so it
 // must be asked for, and the log keeps saying it was.
 TEST_F(SimProcess, ListeningBeyondLoopbackNeedsInsecureAndTheLogSaysSo) {
-  testing::ProgramResult refused = testing::run_to_end(
-      {kBin + "troupe-sim", write_world(0), "--port", "0", "--no-view", "--listen", "0.0.0.0"}, kReplyMs);
+  testing::ProgramResult refused =
+      testing::run_to_end({kBin + "troupe-sim", write_world(0), "--port", "0", "--no-view", "--listen", "0.0.0.0"},
+                          kReplyMs);
   EXPECT_EQ(refused.status, 2);
   EXPECT_NE(refused.err.find("troupe-sim: serving 0.0.0.0:0 in plain TCP would let any machine"),
             std::string::npos)
@@ -197,8 +198,8 @@ TEST_F(SimProcess, ListeningBeyondLoopbackNeedsInsecureAndTheLogSaysSo) {
   EXPECT_NE(refused.err.find("--insecure"), std::string::npos) << refused.err;
 
   start(0, {"--listen", "0.0.0.0", "--insecure"});
-  EXPECT_TRUE(sim_.wait_for("insecure: troupe-sim on 0.0.0.0:" + std::to_string(port_) + " serves plain TCP",
-                            true, kReplyMs))
+  EXPECT_TRUE(sim_.wait_for("insecure: troupe-sim on 0.0.0.0:" + std::to_string(port_) + " serves plain TCP", true,
+                            kReplyMs))
       << sim_.err();
   testing::ProgramResult ls = troupe({"ls", host_});
   EXPECT_EQ(ls.status, 0) << ls.err;

@@ -40,8 +40,8 @@ TEST_F(WireTest, ListsEveryRobotsDevicesAndTheSimulation) {
   ASSERT_TRUE(c.device_list(devices));
   std::vector<std::string> names;
   for (const auto& d : devices) names.push_back(d.text());
-  EXPECT_EQ(names, (std::vector<std::string>{"r0/position2d:0", "r0/ranger:0", "r1/position2d:0",
-                                             "simulation:0", "map:0"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"r0/position2d:0", "r0/ranger:0", "r1/position2d:0", "simulation:0", "map:0"}));
   wire::Address a;
   ASSERT_TRUE(c.resolve("r1/position2d:0", a));
   EXPECT_EQ(a.robot(), 1);
@@ -128,7 +128,7 @@ TEST_F(WireTest, ANewReaderFirstGetsTheCurrentSampleNotAStaleOne) {
     ASSERT_EQ(base.time_us(), 100000u);
     ASSERT_NEAR(base.x(), 0.0, 1e-6);
     ASSERT_NEAR(laser.range(90), 5.0, 0.02);  // the wall ahead
-  }                                           // gone: r0's odometry and laser have no reader now
+  }  // gone: r0's odometry and laser have no reader now
 
   client::Client c("127.0.0.1", runner_.port());
   ASSERT_TRUE(c.connect()) << c.error();

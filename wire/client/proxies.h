@@ -181,9 +181,7 @@ class FiducialProxy final : public Proxy {
   /// Detections in the sensor frame: id, x (m), y (m), yaw (rad).
   const std::vector<wire::Fiducial>& fiducials() const { return fiducials_; }
   /// What detection i is (ball, goal, ...; Generic when the sender did not say).
-  wire::FiducialKind kind(size_t i) const {
-    return i < kinds_.size() ? kinds_[i] : wire::FiducialKind::Generic;
-  }
+  wire::FiducialKind kind(size_t i) const { return i < kinds_.size() ? kinds_[i] : wire::FiducialKind::Generic; }
 
  private:
   void update(const wire::Message& msg) override;

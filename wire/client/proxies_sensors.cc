@@ -11,9 +11,7 @@ using wire::Interface;
 RangerProxy::RangerProxy(Client& client, uint16_t index, uint16_t robot)
     : RangerProxy(client, address_of(Interface::Ranger, index, robot)) {}
 
-RangerProxy::RangerProxy(Client& client, const wire::Address& addr) : Proxy(client, addr) {
-  attach();
-}
+RangerProxy::RangerProxy(Client& client, const wire::Address& addr) : Proxy(client, addr) { attach(); }
 
 void RangerProxy::update(const wire::Message& msg) {
   const wire::RangerScan* s = msg.body_as_RangerScan();
@@ -53,9 +51,7 @@ PowerProxy::PowerProxy(Client& client, uint16_t index, uint16_t robot)
 void PowerProxy::update(const wire::Message& msg) {
   const wire::PowerState* s = msg.body_as_PowerState();
   if (s == nullptr) return;
-  auto get = [](const flatbuffers::Optional<float>& v) {
-    return v ? std::optional<float>(*v) : std::nullopt;
-  };
+  auto get = [](const flatbuffers::Optional<float>& v) { return v ? std::optional<float>(*v) : std::nullopt; };
   volts_ = get(s->volts());
   percent_ = get(s->percent());
   watts_ = get(s->watts());
@@ -150,8 +146,7 @@ bool CameraProxy::geometry(CameraModel& out) {
 
 bool CameraProxy::configure(CameraSettings& want) {
   auto& b = client().begin();
-  auto body =
-      wire::CreateCameraConfig(b, uint16_t(want.width), uint16_t(want.height), want.rate, want.format);
+  auto body = wire::CreateCameraConfig(b, uint16_t(want.width), uint16_t(want.height), want.rate, want.format);
   Reply r = request(uint8_t(wire::CameraReqSub::SetConfig), wire::Body::CameraConfig, body.Union());
   const wire::CameraConfig* c = r.ok() ? r.message()->body_as_CameraConfig() : nullptr;
   if (c == nullptr) return false;
