@@ -99,10 +99,22 @@ struct BlobfinderDesc {
   std::vector<uint32_t> colors;  // tracked 0x00RRGGBB; empty: every colour
 };
 
+/// How a camera's pixels look at the world.
+enum class CameraProjection : uint8_t {
+  /// A level (or tilted) pinhole camera.
+  Pinhole = 0,
+  /// 360 degrees through an isometric mirror, seen from above: the robot at
+  /// the image centre, its forward up, its left to the left.
+  Omni = 1,
+};
+
 /// A camera rendering the 2.5D world: footprints extruded to their heights
 /// over a floor. Stage's syntax and defaults:
 ///   camera( resolution [32 32] range [0.2 8.0] fov [70.0 40.0]
 ///           pantilt [0 0] size [0.1 0.07 0.05] color "black" )
+/// and, for an omnidirectional camera (128 x 128 px unless `resolution`
+/// says otherwise; fov and pantilt's tilt are then unused):
+///   camera( mirror "isometric" mirror_range 4.0 mirror_ground 0.8 mirror_top 30 )
 struct CameraDesc {
   /// On the robot, robot frame: m, m, rad (the pan is added to a).
   Pose pose;
@@ -118,7 +130,23 @@ struct CameraDesc {
   double vfov = 40 * kPi / 180;  // rad down the image
   Vec2 size{0.1, 0.07};          // body, m (for geometry requests)
   double size_z = 0.05;          // m
+  /// How pixels map to rays. Pinhole uses hfov, vfov and tilt; Omni (an
+  /// F2000 robot's camera looking up into an isometric mirror) uses the
+  /// mirror_* fields below instead.
+  CameraProjection projection = CameraProjection::Pinhole;
+  /// Omni: the ground ring is the disc of `mirror_ground` times the image's
+  /// half side (min(width, height) / 2), px over px; its pixel radius maps
+  /// linearly to ground distance, 0 at the centre to `mirror_range` m at its
+  /// edge. Beyond it, out to the half side, the elevation above level grows
+  /// linearly from the ground at mirror_range to `mirror_top` rad, so
+  /// obstacles show their heights there.
+  double mirror_range = 4.0;           // m
+  double mirror_ground = 0.8;          // fraction of the half side, 0..1
+  double mirror_top = 30 * kPi / 180;  // rad above level
 };
+
+/// An omni camera's image side when the world file gives no resolution, px.
+inline constexpr int kOmniDefaultSide = 128;
 
 /// Largest image side a world file or configuration may ask for, px.
 inline constexpr int kMaxCameraSide = 4096;
@@ -234,6 +262,25 @@ enum class Physics {
   Rigid,
 };
 
+/// Paint on the floor, as cameras see it (the obstacle grid ignores it).
+/// Later marks cover earlier ones.
+struct FloorMark {
+  /// A stroke `width` m wide centred on the segment a-b (world, m), or,
+  /// when `radius` > 0, on the circle of that radius (m) about a.
+  Vec2 a, b;
+  double radius = 0;
+  double width = 0.1;
+  uint32_t color = 0xFFFFFF;  // 0x00RRGGBB
+};
+
+struct FloorDesc {
+  uint32_t color = 0x808080;  // 0x00RRGGBB, where nothing is painted
+  std::vector<FloorMark> marks;
+};
+
+/// The colour of the floor at world point p (m).
+uint32_t floor_color(const FloorDesc& floor, Vec2 p);
+
 struct WorldDesc {
   Physics physics = Physics::Kinematic;
   /// Obstacle grid cell size, m.
@@ -252,6 +299,7 @@ struct WorldDesc {
   /// Worker threads asked for. Results never depend on it.
   int threads = 1;
   WindowDesc window;
+  FloorDesc floor;
   std::vector<StaticDesc> statics;
   std::vector<RobotDesc> robots;
 };

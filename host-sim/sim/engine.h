@@ -3,6 +3,7 @@
 // per-step data (Body) is kept apart from what the step rarely reads.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -193,6 +194,15 @@ struct Engine {
   // camera.cc
   void update_cameras();
   void render_camera(uint32_t index);
+  /// Renders into st's buffers, already sized; `at`: the camera, world frame.
+  void render_omni(CameraState& st, const CameraDesc& d, const Pose& at);
+  /// Robots other than the camera's own within `far` m of the camera at
+  /// `at` (world), in index order, with where they are seen (into `sights`).
+  void camera_sights(RobotId own, const Pose& at, double far);
+  /// A camera ray's spans (into `spans`, unsorted): the first wall, `wall`
+  /// m away, and the robots of camera_cols covering ray `ray` of `rays`
+  /// that it meets before the wall, within `far` m.
+  void ray_spans(Vec2 o, Vec2 dir, double wall, double far, int ray, int rays);
 
   void update_sensors();
   void publish_states();
@@ -261,6 +271,27 @@ struct Engine {
     int u0, u1;  // columns, inclusive
   };
   std::vector<CameraCandidate> camera_cols;
+  struct CameraSight {
+    RobotId robot;
+    double bearing, half;  // rad: its centre left of the camera's forward; its half width
+    bool around;           // the camera stands in its bounding circle
+  };
+  std::vector<CameraSight> sights;
+  // An omni camera's spans, nearest first, for each of its rays:
+  // omni_spans[omni_first[i] .. omni_first[i + 1]).
+  std::vector<Span> omni_spans;
+  std::vector<uint32_t> omni_first;
+  // What an omni camera's pixels look along, which depends only on its
+  // description: kept for the last description seen (cameras of a world
+  // mostly share one), rebuilt when another comes.
+  struct OmniPixel {
+    int32_t ray;    // index into the rays; -1 beyond the mirror's rim
+    float rise;     // m the pixel's ray climbs per horizontal metre
+    float stretch;  // m along the ray per horizontal metre
+  };
+  std::vector<OmniPixel> omni_pixels;
+  std::array<double, 7> omni_pixels_for{};
+  void omni_map(const CameraDesc& d, int rays);
 };
 
 }  // namespace troupe::sim

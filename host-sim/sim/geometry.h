@@ -17,6 +17,7 @@ using geometry::compose;
 using geometry::cross;
 using geometry::dot;
 using geometry::length;
+using geometry::length_squared;
 using geometry::relative;
 using geometry::transform;
 using geometry::wrap_angle;

@@ -328,6 +328,7 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   }
   d.pose = {at.x, at.y, at.a + pantilt[0]};
   d.tilt = pantilt[1];
+  if (!omni_mirror(e, d)) return;
   if (e.find("size") != nullptr) {  // else Stage's camera size, not a model's
     d.size = c.size;
     d.size_z = c.look.height;
@@ -335,6 +336,35 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   // Stage stacks a model on its parent: the camera sits on top of the robot.
   d.z = r.look.height + 0.5 * d.size_z;
   r.cameras.push_back(d);
+}
+
+bool Loader::omni_mirror(const Entity& e, CameraDesc& d) {
+  const std::optional<std::string> mirror = read_.string(e, "mirror");
+  if (!mirror) return true;
+  if (*mirror != "isometric") {
+    diags().error(e.find("mirror")->loc,
+                  "camera mirror '" + *mirror + "': the one mirror modelled is \"isometric\"");
+    return false;
+  }
+  d.projection = CameraProjection::Omni;
+  if (e.find("resolution") == nullptr) d.width = d.height = kOmniDefaultSide;
+  d.mirror_range = read_.length(e, "mirror_range", d.mirror_range);
+  d.mirror_ground = read_.number(e, "mirror_ground", d.mirror_ground);
+  d.mirror_top = read_.angle(e, "mirror_top", d.mirror_top);
+  if (!(d.mirror_range > 0)) {
+    diags().error(e.find("mirror_range")->loc, "camera mirror_range must be above 0 (m)");
+    return false;
+  }
+  if (!(d.mirror_ground > 0 && d.mirror_ground <= 1)) {
+    diags().error(e.find("mirror_ground")->loc,
+                  "camera mirror_ground must be in (0, 1] (of the image's half side)");
+    return false;
+  }
+  if (!(d.mirror_top > -kPi / 2 && d.mirror_top < kPi / 2)) {
+    diags().error(e.find("mirror_top")->loc, "camera mirror_top must be within +-90 degrees");
+    return false;
+  }
+  return true;
 }
 
 void Loader::power(const Entity& e, RobotDesc& r) {

@@ -71,6 +71,8 @@ class Loader {
   void bumper(const world::Entity& e, const Pose& at, RobotDesc& r);
   void camera(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void gripper(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  /// A camera's `mirror` keys; false after reporting a bad one.
+  bool omni_mirror(const world::Entity& e, CameraDesc& d);
   void power(const world::Entity& e, RobotDesc& r);
 
   const world::WorldFile& file_;

@@ -35,9 +35,12 @@ double Engine::ray_robot(RobotId j, Vec2 origin, Vec2 dir) const {
 }
 
 const StaticInfo* Engine::static_at(Vec2 p) const {
+  // The grid fills every cell a polygon touches, so a hit point may lie up
+  // to a cell outside the model's box (thin walls): boxes grow by a cell.
+  const double pad = map.resolution();
   const StaticInfo* best = nullptr;
   for (const StaticInfo& s : statics) {
-    if (p.x < s.lo.x || p.x > s.hi.x || p.y < s.lo.y || p.y > s.hi.y) continue;
+    if (p.x < s.lo.x - pad || p.x > s.hi.x + pad || p.y < s.lo.y - pad || p.y > s.hi.y + pad) continue;
     if (!best || s.area < best->area) best = &s;
   }
   return best;

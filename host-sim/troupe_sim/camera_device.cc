@@ -1,5 +1,6 @@
 // camera:k requests: geometry (pose, fields of view, intrinsics, range) and
 // configuration (image size, rate, pixel format).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -37,14 +38,35 @@ void SimServer::camera_request(Device& d, const wire::Message& req, RequestToken
   const CameraDesc& cd = world_.camera_desc(d.index);
   auto& b = node_->begin();
   if (sub == uint8_t(Sub::Geometry)) {
-    // The same pinhole model the renderer projects with (host-sim/sim/camera.cc).
-    const double fx = 0.5 * cd.width / std::tan(0.5 * cd.hfov);
-    const double fy = 0.5 * cd.height / std::tan(0.5 * cd.vfov);
+    // The same projections the renderer uses (host-sim/sim/camera.cc).
     wire::Pose3d pose(float(cd.pose.x), float(cd.pose.y), float(cd.z), 0, float(-cd.tilt), float(cd.pose.a));
     wire::Vec3 size(float(cd.size.x), float(cd.size.y), float(cd.size_z));
-    auto body = wire::CreateCameraGeometry(b, &pose, float(cd.hfov), float(cd.vfov), float(fx), float(fy),
-                                           float(0.5 * cd.width), float(0.5 * cd.height + fy * std::tan(cd.tilt)),
-                                           float(cd.near), float(cd.far), &size);
+    wire::CameraGeometryBuilder g(b);
+    g.add_pose(&pose);
+    g.add_size(&size);
+    g.add_near(float(cd.near));
+    g.add_far(float(cd.far));
+    g.add_cx(float(0.5 * cd.width));
+    if (cd.projection == CameraProjection::Omni) {
+      const double rim = 0.5 * std::min(cd.width, cd.height);
+      g.add_projection(wire::CameraProjection::OmniIsometric);
+      g.add_hfov(float(2 * kPi));
+      g.add_vfov(float(cd.mirror_top + kPi / 2));  // from straight down to the rim's elevation
+      g.add_cy(float(0.5 * cd.height));
+      g.add_ground_radius(float(cd.mirror_ground * rim));
+      g.add_rim_radius(float(rim));
+      g.add_mirror_range(float(cd.mirror_range));
+      g.add_rim_elevation(float(cd.mirror_top));
+    } else {
+      const double fx = 0.5 * cd.width / std::tan(0.5 * cd.hfov);
+      const double fy = 0.5 * cd.height / std::tan(0.5 * cd.vfov);
+      g.add_hfov(float(cd.hfov));
+      g.add_vfov(float(cd.vfov));
+      g.add_fx(float(fx));
+      g.add_fy(float(fy));
+      g.add_cy(float(0.5 * cd.height + fy * std::tan(cd.tilt)));
+    }
+    const auto body = g.Finish();
     return node_->ack(token, wire::Body::CameraGeometry, body.Union());
   }
   // The rate in force: what was asked for, or one image per step.

@@ -9,11 +9,16 @@
 
 #include "host-sim/sim/loader.h"
 #include "host-sim/sim/world.h"
+#include "tests/sim/camera_pixels.h"
 #include "tests/sim/scenes.h"
 #include "tests/sim/temp_dir.h"
 
 namespace troupe::sim {
 namespace {
+
+using test::depth;
+using test::pixel;
+using test::render;
 
 constexpr double kDeg = kPi / 180;
 constexpr uint32_t kRed = 0xFF0000, kBlue = 0x0000FF;
@@ -48,19 +53,6 @@ WorldDesc box_scene() {
   d.robots.push_back(r);
   return d;
 }
-
-CameraView render(World& w, uint32_t index = 0) {
-  w.set_wanted({SensorKind::Camera, index}, true);
-  w.refresh_sensors();
-  return w.camera(index);
-}
-
-uint32_t pixel(const CameraView& v, int u, int row) {
-  const uint8_t* p = v.rgb.data() + (size_t(row) * size_t(v.width) + size_t(u)) * 3;
-  return uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2];
-}
-
-float depth(const CameraView& v, int u, int row) { return v.depth[size_t(row) * size_t(v.width) + size_t(u)]; }
 
 // The pinhole model written out independently of the renderer.
 struct Pinhole {
@@ -189,22 +181,9 @@ TEST(Camera, NotComputedWhileNobodyWantsIt) {
 TEST(Camera, SameSeedAndWorldGiveTheSameBytes) {
   auto run = [](double heading) {
     WorldDesc d = box_scene();
-    for (int i = 0; i < 6; ++i) {
-      RobotDesc r = test::robot("r" + std::to_string(i), {1.5 + 0.7 * i, -2.0 + 0.8 * i, 0.3 * i});
-      r.look.color = 0x00FF00u + uint32_t(i) * 0x20u;
-      r.look.height = 0.3 + 0.2 * i;
-      d.robots.push_back(r);
-    }
+    test::add_movers(d, 1.5);
     d.robots[0].pose.a = heading;
-    World w(d, Random(42));
-    w.set_wanted({SensorKind::Camera, 0}, true);
-    for (RobotId r = 1; r < w.robot_count(); ++r) w.command(r, Command::velocity(0.2, 0, 0.3));
-    for (int s = 0; s < 20; ++s) w.step();
-    const CameraView v = w.camera(0);
-    std::vector<uint8_t> bytes(v.rgb.begin(), v.rgb.end());
-    const auto* f = reinterpret_cast<const uint8_t*>(v.depth.data());
-    bytes.insert(bytes.end(), f, f + v.depth.size() * sizeof(float));
-    return bytes;
+    return test::camera_bytes_after_steps(d);
   };
   const std::vector<uint8_t> a = run(0), b = run(0), c = run(0.2);
   ASSERT_FALSE(a.empty());
@@ -285,7 +264,8 @@ TEST(Camera, TheExampleWorldLoadsWithoutWarningsAndSeesTheVisitor) {
   // The blue visitor, 0.3 m high, stands straight ahead below the camera's
   // horizon (the camera is 0.325 m up): the middle column under the centre.
   EXPECT_EQ(pixel(v, 80, 70), kBlue);
-  EXPECT_NEAR(depth(v, 80, 70), 2.7 * std::sqrt(1 + std::pow((60 - 70.5) / (60 / std::tan(22.5 * kDeg)), 2)), 0.03);
+  EXPECT_NEAR(depth(v, 80, 70), 2.7 * std::sqrt(1 + std::pow((60 - 70.5) / (60 / std::tan(22.5 * kDeg)), 2)),
+              0.03);
 }
 
 }  // namespace

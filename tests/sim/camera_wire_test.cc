@@ -22,6 +22,8 @@ interval_sim 100
 model ( name "wall" pose [3.1 0 0 0] size [0.2 8 1.0] color "red" )
 position ( name "cam" size [0.4 0.4 0.3] localization "gps"
   camera ( resolution [40 30] range [0.1 8] fov [60 45] ) )
+position ( name "omni" pose [0 2 0 0] size [0.4 0.4 0.3] localization "gps"
+  camera ( mirror "isometric" resolution [60 60] mirror_range 3 mirror_ground 0.75 mirror_top 20 ) )
 )";
 
 class CameraWire : public test::ServedWorld {
@@ -62,6 +64,23 @@ TEST_F(CameraWire, ImagesGeometryAndConfigurationOverTheWire) {
   EXPECT_NEAR(g.fx, 20 / std::tan(30 * kPi / 180), 1e-3);
   EXPECT_NEAR(g.cx, 20, 1e-5);
   EXPECT_NEAR(g.far, 8, 1e-5);
+  EXPECT_EQ(g.projection, wire::CameraProjection::Pinhole);
+
+  // The omnidirectional camera says how its pixels map: the ground ring
+  // 0.75 x 30 px wide showing 3 m of floor, 20 degrees up at the rim.
+  client::CameraProxy omni(c, 0, 1);
+  ASSERT_TRUE(omni.is_open()) << c.error();
+  client::CameraModel og;
+  ASSERT_TRUE(omni.geometry(og)) << c.error();
+  EXPECT_EQ(og.projection, wire::CameraProjection::OmniIsometric);
+  EXPECT_NEAR(og.hfov, 2 * kPi, 1e-5);
+  EXPECT_NEAR(og.cx, 30, 1e-5);
+  EXPECT_NEAR(og.cy, 30, 1e-5);
+  EXPECT_NEAR(og.rim_radius, 30, 1e-5);
+  EXPECT_NEAR(og.ground_radius, 22.5, 1e-5);
+  EXPECT_NEAR(og.mirror_range, 3, 1e-5);
+  EXPECT_NEAR(og.rim_elevation, 20 * kPi / 180, 1e-5);
+  EXPECT_EQ(og.fx, 0);
 
   // Depth in metres: the wall's face at x = 3, straight ahead.
   client::CameraSettings s;

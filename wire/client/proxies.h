@@ -143,6 +143,10 @@ struct CameraModel {
   float hfov = 0, vfov = 0;
   float fx = 0, fy = 0, cx = 0, cy = 0;
   float near = 0, far = 0;
+  /// How pixels map to rays; OmniIsometric fills the four below (px, px, m,
+  /// rad: schemas/camera.fbs says what they mean).
+  wire::CameraProjection projection = wire::CameraProjection::Pinhole;
+  float ground_radius = 0, rim_radius = 0, mirror_range = 0, rim_elevation = 0;
 };
 
 /// A camera's configuration: image size (px), images per second (Hz),

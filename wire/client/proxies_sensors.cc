@@ -136,6 +136,11 @@ bool CameraProxy::geometry(CameraModel& out) {
   out.cy = g->cy();
   out.near = g->near();
   out.far = g->far();
+  out.projection = g->projection();
+  out.ground_radius = g->ground_radius();
+  out.rim_radius = g->rim_radius();
+  out.mirror_range = g->mirror_range();
+  out.rim_elevation = g->rim_elevation();
   return true;
 }
 

@@ -19,6 +19,7 @@ bool read_field(const Statement& st, FieldSpec& f, std::string& error) {
   f.center_circle_radius = o.number("center_circle_radius", f.center_circle_radius, 0, 50);
   f.penalty_depth = o.number("penalty_depth", f.penalty_depth, 0, 50);
   f.penalty_width = o.number("penalty_width", f.penalty_width, 0, 100);
+  f.line_width = o.number("line_width", f.line_width, 0.001, 1);
   if (o.ok()) {
     if (f.goal_width + 2 * f.goal_wall >= f.width) {
       o.fail("goal_width", "the goal (with its walls) must be narrower than the field");

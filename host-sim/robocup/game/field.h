@@ -33,6 +33,8 @@ struct FieldSpec {
   double center_circle_radius = 1.0;
   /// Penalty area: depth from the goal line and width.
   double penalty_depth = 1.0, penalty_width = 3.0;
+  /// Width of the white lines painted on the carpet (cameras see them).
+  double line_width = 0.1;
 };
 
 /// Reads a `field` statement over the defaults; false with "file:line:
