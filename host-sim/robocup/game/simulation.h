@@ -163,6 +163,8 @@ class Simulation final : public WorldControl {
   std::vector<Robot> robots_;
   std::vector<Message> inbox_, outbox_;
   std::vector<std::string> problems_;
+  // The phases, in pipeline order; defined here, after profile_, so that
+  // every constructor gets them.
   sim::Profile profile_;
   size_t ph_players_ = profile_.define("players");
   size_t ph_motion_ = profile_.define("motion");

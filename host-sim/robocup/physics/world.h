@@ -222,6 +222,8 @@ class World {
   std::vector<uint32_t> free_;
   std::vector<Contact> contacts_;
   std::vector<ContactEvent> events_;
+  // The phases, in pipeline order; defined here, after profile_, so that
+  // every constructor gets them.
   sim::Profile profile_;
   size_t ph_floor_ = profile_.define("floor");
   size_t ph_overlap_ = profile_.define("overlap");
