@@ -1,5 +1,9 @@
 // Time spent in each named phase of the step, accumulated over steps, so a
 // run can print where its time went.
+// The one profiler of the simulator: the Stage engine's step and RoboCup
+// mode's cycle and physics step all time into it, and `--profile` prints
+// its table() whatever the world. Its own library (troupe_sim_profile),
+// depending on nothing, so either side can use it.
 #pragma once
 
 #include <cstdint>

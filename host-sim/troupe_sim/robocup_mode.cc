@@ -1,5 +1,6 @@
 #include "host-sim/troupe_sim/robocup_mode.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "host-sim/robocup/game/world_spec.h"
@@ -19,18 +20,18 @@ bool is_robocup_world(const std::string& path) {
 
 bool RobocupMode::init(const SimOptions& options, std::string& error) {
   // What belongs to the Stage engine alone.
-  const char* refused = !options.emulate.empty()        ? "--emulate"
-                        : options.port_per_robot        ? "--port-per-robot"
-                        : !options.snapshot.empty()     ? "--snapshot"
-                        : !options.log.empty()          ? "--log"
-                        : options.ignore_missing_ctrl   ? "--ignore-missing-ctrl"
-                        : options.no_ctrl               ? "--no-ctrl"
-                        : options.profile               ? "--profile"
-                                                        : nullptr;
+  const char* refused = !options.emulate.empty()      ? "--emulate"
+                        : options.port_per_robot      ? "--port-per-robot"
+                        : !options.snapshot.empty()   ? "--snapshot"
+                        : !options.log.empty()        ? "--log"
+                        : options.ignore_missing_ctrl ? "--ignore-missing-ctrl"
+                        : options.no_ctrl             ? "--no-ctrl"
+                                                      : nullptr;
   if (refused) {
     error = std::string(refused) + " is for Stage worlds; " + options.world + " is a RoboCup world";
     return false;
   }
+  profile_ = options.profile;
   robocup::WorldSpec spec;
   if (!robocup::load_world_file(options.world, spec, error)) return false;
   if (options.seed != 0) spec.seed = options.seed;
@@ -56,6 +57,8 @@ int RobocupMode::run() {
   loop_->run();
   const robocup::Score s = sim_->score();
   log_info("%.2f s simulated; score blue %d : %d yellow", sim_->time_s(), s.blue, s.yellow);
+  // Where a Stage world prints its step's table (runner.cc), in its format.
+  if (profile_) std::fprintf(stderr, "%s", sim_->profile_table().c_str());
   return 0;
 }
 

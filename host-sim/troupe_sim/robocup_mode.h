@@ -32,6 +32,7 @@ class RobocupMode {
  private:
   std::unique_ptr<robocup::Simulation> sim_;
   std::unique_ptr<robocup::ServeLoop> loop_;
+  bool profile_ = false;  // --profile: the cycle's phase table at the end
 };
 
 }  // namespace troupe::sim

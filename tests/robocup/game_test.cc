@@ -2,6 +2,9 @@
 // and the console that starts and stops players at run time.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "host-sim/robocup/game/console.h"
 #include "sim_fixture.h"
 
@@ -58,10 +61,12 @@ TEST(Broadcast, PlayersHearEachOtherAndTheNearestChases) {
   const std::string drive = "  motion_plugin ( plugin \"diff_drive\" )\n";
   auto sim = test::make_sim(
       "ball ( pose [-1 1 0 0] deceleration 100 )\n" +
-          test::robot("near", "blue", -1.6, 1, 0,
-                      test::pioneer_block(drive) + "  player ( plugin \"field_player\" home_x -3 home_y 1 )\n") +
-          test::robot("far", "blue", -3, -1.5, 0,
-                      test::pioneer_block(drive) + "  player ( plugin \"field_player\" home_x -3 home_y -1.5 )\n"),
+          test::robot(
+              "near", "blue", -1.6, 1, 0,
+              test::pioneer_block(drive) + "  player ( plugin \"field_player\" home_x -3 home_y 1 )\n") +
+          test::robot(
+              "far", "blue", -3, -1.5, 0,
+              test::pioneer_block(drive) + "  player ( plugin \"field_player\" home_x -3 home_y -1.5 )\n"),
       error);
   ASSERT_TRUE(sim) << error;
   sim->step();
@@ -126,6 +131,34 @@ TEST(Match, TheExampleMatchRepeatsExactlyForItsSeed) {
   EXPECT_EQ(a.first, b.first) << "same seed, same match";
   EXPECT_EQ(a.second, b.second);
   EXPECT_NE(a.second, c.second) << "another seed draws other sensor noise";
+}
+
+// The cycle times into the simulator's one Profile: its phases in pipeline
+// order, one step counted per cycle, and the physics step's own phases
+// nested inside the cycle's physics phase (their clock readings lie within
+// its two), so they can never add up to more than it.
+TEST(Profile, TimesEachPhaseOfEveryCycle) {
+  auto sim = kicker_world();
+  sim->place_ball({0.5, 0}, {2, 0});
+  sim->run_for(0.5);
+  const auto& cycle = sim->profile();
+  std::vector<std::string> names;
+  for (const auto& p : cycle.phases()) names.push_back(p.name);
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"players", "motion", "kickers", "physics", "referee", "sensors"}));
+  EXPECT_EQ(cycle.steps(), 50u);
+  const auto& physics = sim->physics().profile();
+  names.clear();
+  for (const auto& p : physics.phases()) names.push_back(p.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"floor", "overlap", "impacts"}));
+  EXPECT_EQ(physics.steps(), 50u);
+  EXPECT_LE(physics.total_ns(), cycle.phases()[3].total_ns);
+
+  // What --profile prints, in the Stage engine's table format.
+  const std::string table = sim->profile_table();
+  EXPECT_NE(table.find("(50 steps)"), std::string::npos) << table;
+  EXPECT_NE(table.find("physics, by phase:\nphase "), std::string::npos) << table;
+  EXPECT_NE(table.find("\nimpacts "), std::string::npos) << table;
 }
 
 }  // namespace

@@ -26,7 +26,8 @@ class MatchInTroupeSim : public ::testing::Test {
     dir_ = testing::make_temp_dir("troupe-match");
     ASSERT_FALSE(dir_.empty());
     std::string error;
-    ASSERT_TRUE(sim_.start({kSim, kMatch, "--port", "0", "--no-view", "--paused"}, dir_, "sim", error)) << error;
+    ASSERT_TRUE(sim_.start({kSim, kMatch, "--port", "0", "--no-view", "--paused"}, dir_, "sim", error))
+        << error;
     ASSERT_TRUE(sim_.wait_for("listening on", false, 60000)) << sim_.err();
     const std::string out = sim_.out();
     port_ = uint16_t(std::stoi(out.substr(out.rfind(':') + 1)));
@@ -88,6 +89,18 @@ TEST(MatchBatch, RunsToItsQuitTimeAndSaysTheScore) {
   const auto refused = testing::run_to_end({kSim, kMatch, "--no-serve", "--snapshot", "x.png"}, 60000);
   EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.err.find("--snapshot is for Stage worlds"), std::string::npos) << refused.err;
+}
+
+// --profile prints the match's phases as it prints a Stage world's: the
+// cycle's table (300 cycles of 10 ms in 3 s), then the physics step's.
+TEST(MatchBatch, ProfilePrintsTheCyclesPhases) {
+  const auto r =
+      testing::run_to_end({kSim, kMatch, "--no-serve", "--fast", "--quit-time", "3", "--profile"}, 120000);
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* row : {"\nphase              total ms      us/step   share\nplayers ", "\nsensors ",
+                          "(300 steps)\nphysics, by phase:\n", "\nimpacts "}) {
+    EXPECT_NE(r.err.find(row), std::string::npos) << row << " not in:\n" << r.err;
+  }
 }
 
 }  // namespace

@@ -1,7 +1,5 @@
 #include "host-sim/robocup/game/simulation.h"
 
-#include <chrono>
-
 #include "runtime/log.h"
 
 namespace troupe::robocup {
@@ -227,29 +225,38 @@ void Simulation::set_kicker_state(Robot& r, int state) {
 }
 
 void Simulation::step() {
-  using Clock = std::chrono::steady_clock;
-  auto t = Clock::now();
-  auto lap = [&t](double& into) {
-    auto now = Clock::now();
-    into = std::chrono::duration<double>(now - t).count();
-    t = now;
-  };
-  const auto t0 = t;
-  run_players();
-  lap(profile_.players_s);
-  run_motion();
-  lap(profile_.motion_s);
-  run_kickers();
-  lap(profile_.kickers_s);
-  world_.step();
-  lap(profile_.physics_s);
-  run_referee();
-  lap(profile_.referee_s);
-  run_sensors();
-  lap(profile_.sensors_s);
+  // Each phase's timer ends where the next one starts (a scope per phase).
+  {
+    sim::PhaseTimer timer(profile_, ph_players_);
+    run_players();
+  }
+  {
+    sim::PhaseTimer timer(profile_, ph_motion_);
+    run_motion();
+  }
+  {
+    sim::PhaseTimer timer(profile_, ph_kickers_);
+    run_kickers();
+  }
+  {
+    sim::PhaseTimer timer(profile_, ph_physics_);
+    world_.step();
+  }
+  {
+    sim::PhaseTimer timer(profile_, ph_referee_);
+    run_referee();
+  }
+  {
+    sim::PhaseTimer timer(profile_, ph_sensors_);
+    run_sensors();
+  }
   inbox_.swap(outbox_);
   outbox_.clear();
-  profile_.total_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  profile_.count_step();
+}
+
+std::string Simulation::profile_table() const {
+  return profile_.table() + "physics, by phase:\n" + world_.profile().table();
 }
 
 void Simulation::run_for(double seconds) {

@@ -4,7 +4,8 @@
 // robots' readings and commands mapped onto devices, its score and game
 // state onto the simulation interface (README.md, "Serving it").
 //
-// A cycle is a fixed pipeline of named phases, each timed into profile():
+// A cycle is a fixed pipeline of named phases, each timed into profile()
+// (the simulator's one Profile, as the Stage engine's step is):
 //   players  each running player senses (last readings, broadcast inbox)
 //            and acts (command, kick, messages)
 //   motion   each robot's motion plugin turns its command into velocity
@@ -22,13 +23,9 @@
 #include "host-sim/robocup/api/plugin.h"
 #include "host-sim/robocup/game/plugin_loader.h"
 #include "host-sim/robocup/game/world_spec.h"
+#include "host-sim/sim/profile.h"
 
 namespace troupe::robocup {
-
-/// Wall-clock seconds each phase of the last cycle took.
-struct CycleProfile {
-  double players_s = 0, motion_s = 0, kickers_s = 0, physics_s = 0, referee_s = 0, sensors_s = 0, total_s = 0;
-};
 
 class Simulation final : public WorldControl {
  public:
@@ -87,7 +84,13 @@ class Simulation final : public WorldControl {
   BodyId ball_body() const { return ball_; }
   BodyId robot_body(int robot) const;
   const WorldSpec& spec() const { return spec_; }
-  const CycleProfile& profile() const { return profile_; }
+  /// Wall-clock time of each phase of the cycle, over every cycle so far
+  /// and the latest one; physics().profile() splits the physics phase.
+  const sim::Profile& profile() const { return profile_; }
+  sim::Profile& profile() { return profile_; }
+  /// What `--profile` prints: the cycle's table, then the physics step's
+  /// (Profile::table() format, the Stage engine's too).
+  std::string profile_table() const;
 
   // ---- WorldView / WorldControl ----------------------------------------------
 
@@ -160,7 +163,15 @@ class Simulation final : public WorldControl {
   std::vector<Robot> robots_;
   std::vector<Message> inbox_, outbox_;
   std::vector<std::string> problems_;
-  CycleProfile profile_;
+  // The phases, in pipeline order; defined here, after profile_, so that
+  // every constructor gets them.
+  sim::Profile profile_;
+  size_t ph_players_ = profile_.define("players");
+  size_t ph_motion_ = profile_.define("motion");
+  size_t ph_kickers_ = profile_.define("kickers");
+  size_t ph_physics_ = profile_.define("physics");
+  size_t ph_referee_ = profile_.define("referee");
+  size_t ph_sensors_ = profile_.define("sensors");
 };
 
 }  // namespace troupe::robocup

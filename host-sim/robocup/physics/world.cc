@@ -1,20 +1,11 @@
 #include "host-sim/robocup/physics/world.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 
 #include "host-sim/robocup/physics/raycast.h"
 
 namespace troupe::robocup {
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
-
 World::World(const WorldDef& def) : def_(def) {}
 
 World::Body* World::get(BodyId id) {
@@ -216,52 +207,50 @@ Separation World::distance(BodyId ia, BodyId ib) const {
 }
 
 void World::step() {
-  const auto t0 = std::chrono::steady_clock::now();
   const double dt = def_.cycle_s;
   events_.clear();
-  profile_ = {};
-
-  for (Body& b : bodies_) {
-    if (!b.alive || b.inv_mass == 0) continue;
-    const double speed = length(b.v);
-    if (b.linear_deceleration > 0 && speed > 0) {
-      b.v = b.v * (std::max(0.0, speed - b.linear_deceleration * dt) / speed);
-    }
-    if (b.angular_deceleration > 0 && b.w != 0) {
-      const double w = std::max(0.0, std::fabs(b.w) - b.angular_deceleration * dt);
-      b.w = std::copysign(w, b.w);
+  {
+    sim::PhaseTimer timer(profile_, ph_floor_);
+    for (Body& b : bodies_) {
+      if (!b.alive || b.inv_mass == 0) continue;
+      const double speed = length(b.v);
+      if (b.linear_deceleration > 0 && speed > 0) {
+        b.v = b.v * (std::max(0.0, speed - b.linear_deceleration * dt) / speed);
+      }
+      if (b.angular_deceleration > 0 && b.w != 0) {
+        const double w = std::max(0.0, std::fabs(b.w) - b.angular_deceleration * dt);
+        b.w = std::copysign(w, b.w);
+      }
     }
   }
-  const auto t1 = std::chrono::steady_clock::now();
-  profile_.floor_s = std::chrono::duration<double>(t1 - t0).count();
-
-  resolve_overlaps();
-  const auto t2 = std::chrono::steady_clock::now();
-  profile_.overlap_s = std::chrono::duration<double>(t2 - t1).count();
-
-  double t = 0;
-  for (int impacts = 0;; ++impacts) {
-    find_contacts(contacts_);
-    solve(contacts_);
-    const double remaining = dt - t;
-    if (remaining <= 0) break;
-    if (impacts >= def_.max_impacts_per_step) {
-      advance(remaining);
-      break;
-    }
-    const double toi = earliest_impact(remaining);
-    if (toi >= remaining) {
-      advance(remaining);
-      break;
-    }
-    advance(toi);
-    t += toi;
-    profile_.impacts = impacts + 1;
+  {
+    sim::PhaseTimer timer(profile_, ph_overlap_);
+    resolve_overlaps();
   }
-  // Rotation can leave a sliver of overlap at resting contacts.
-  resolve_overlaps();
-  profile_.impacts_s = seconds_since(t2);
-  profile_.total_s = seconds_since(t0);
+  {
+    sim::PhaseTimer timer(profile_, ph_impacts_);
+    double t = 0;
+    for (int impacts = 0;; ++impacts) {
+      find_contacts(contacts_);
+      solve(contacts_);
+      const double remaining = dt - t;
+      if (remaining <= 0) break;
+      if (impacts >= def_.max_impacts_per_step) {
+        advance(remaining);
+        break;
+      }
+      const double toi = earliest_impact(remaining);
+      if (toi >= remaining) {
+        advance(remaining);
+        break;
+      }
+      advance(toi);
+      t += toi;
+    }
+    // Rotation can leave a sliver of overlap at resting contacts.
+    resolve_overlaps();
+  }
+  profile_.count_step();
   ++steps_;
 }
 

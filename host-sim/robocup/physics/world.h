@@ -19,6 +19,7 @@
 
 #include "host-sim/robocup/physics/distance.h"
 #include "host-sim/robocup/physics/shape.h"
+#include "host-sim/sim/profile.h"
 
 namespace troupe::robocup {
 
@@ -88,13 +89,6 @@ struct ContactEvent {
   double approach_speed = 0;
 };
 
-/// Where the time of the last step went, s of wall clock.
-struct StepProfile {
-  double floor_s = 0, overlap_s = 0, impacts_s = 0, total_s = 0;
-  /// Impacts found inside the step.
-  int impacts = 0;
-};
-
 /// A ray's first hit on a body.
 struct RayHit {
   BodyId body;
@@ -152,7 +146,10 @@ class World {
   WorldDef& settings() { return def_; }
   const WorldDef& settings() const { return def_; }
   std::span<const ContactEvent> contacts() const { return events_; }
-  const StepProfile& profile() const { return profile_; }
+  /// Wall-clock time of each phase (floor, overlap, impacts), over every
+  /// step so far and the latest one: the simulator's one Profile.
+  const sim::Profile& profile() const { return profile_; }
+  sim::Profile& profile() { return profile_; }
 
   /// The first body hit by a ray from `origin` along unit `dir` within
   /// `max_range` m, among shapes whose height range holds `z` (m). The body
@@ -225,7 +222,12 @@ class World {
   std::vector<uint32_t> free_;
   std::vector<Contact> contacts_;
   std::vector<ContactEvent> events_;
-  StepProfile profile_;
+  // The phases, in pipeline order; defined here, after profile_, so that
+  // every constructor gets them.
+  sim::Profile profile_;
+  size_t ph_floor_ = profile_.define("floor");
+  size_t ph_overlap_ = profile_.define("overlap");
+  size_t ph_impacts_ = profile_.define("impacts");
   uint64_t steps_ = 0;
 };
 

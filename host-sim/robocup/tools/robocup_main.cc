@@ -19,37 +19,6 @@
 
 using namespace troupe::robocup;
 
-namespace {
-
-struct Totals {
-  CycleProfile sum;
-  long cycles = 0;
-  void add(const CycleProfile& p) {
-    sum.players_s += p.players_s;
-    sum.motion_s += p.motion_s;
-    sum.kickers_s += p.kickers_s;
-    sum.physics_s += p.physics_s;
-    sum.referee_s += p.referee_s;
-    sum.sensors_s += p.sensors_s;
-    sum.total_s += p.total_s;
-    ++cycles;
-  }
-  void print() const {
-    if (cycles == 0) return;
-    const std::pair<const char*, double> rows[] = {{"players", sum.players_s}, {"motion", sum.motion_s},
-                                                   {"kickers", sum.kickers_s}, {"physics", sum.physics_s},
-                                                   {"referee", sum.referee_s}, {"sensors", sum.sensors_s},
-                                                   {"cycle", sum.total_s}};
-    printf("%-8s %12s %8s\n", "phase", "mean us", "share");
-    for (const auto& [name, s] : rows) {
-      printf("%-8s %12.1f %7.1f%%\n", name, 1e6 * s / double(cycles),
-             sum.total_s > 0 ? 100 * s / sum.total_s : 0);
-    }
-  }
-};
-
-}  // namespace
-
 int main(int argc, char** argv) {
   troupe::set_log_program("troupe-robocup");
   std::string world_file, script;
@@ -81,7 +50,7 @@ int main(int argc, char** argv) {
   app->add_flag("--interactive", interactive, "run console commands typed on standard input");
   app->add_option("--plugin-path", plugin_path, "look for plugins in folder D first (repeatable)")
       ->type_name("D");
-  app->add_flag("--profile", profile, "print the mean time per cycle of each phase at the end");
+  app->add_flag("--profile", profile, "print the time spent in each phase of the cycle at the end");
   app->add_flag("--quiet", quiet, "no event lines, only the final score");
   // Serving a match is troupe-sim's: --serve (hidden) answers with the command that does it.
   bool serve = false;
@@ -106,13 +75,11 @@ int main(int argc, char** argv) {
   if (!sim->problems().empty()) {
     fprintf(stderr, "troupe-robocup: running without %zu plugin(s), see above\n", sim->problems().size());
   }
-  Totals totals;
   const auto wall0 = std::chrono::steady_clock::now();
   const double sim0 = sim->time_s();
   Console console(*sim, [quiet](const std::string& line) {
     if (!quiet) printf("%s\n", line.c_str());
   });
-  auto pace = [&] { totals.add(sim->profile()); };
   int status = 0;
   if (!script.empty() || interactive) {
     std::ifstream file;
@@ -150,15 +117,12 @@ int main(int argc, char** argv) {
   } else {
     if (seconds < 0) seconds = sim->spec().referee.duration_s > 0 ? sim->spec().referee.duration_s : 60;
     const long steps = std::lround(seconds / sim->cycle_s());
-    for (long i = 0; i < steps && sim->phase() != GamePhase::Stopped; ++i) {
-      console.run_steps(1);
-      pace();
-    }
+    for (long i = 0; i < steps && sim->phase() != GamePhase::Stopped; ++i) console.run_steps(1);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const Score s = sim->score();
   printf("final: blue %d yellow %d after %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.blue,
          s.yellow, sim->time_s(), wall, wall > 0 ? (sim->time_s() - sim0) / wall : 0.0);
-  if (profile) totals.print();
+  if (profile) printf("%s", sim->profile_table().c_str());
   return status;
 }
