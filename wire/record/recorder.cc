@@ -133,8 +133,10 @@ bool Recorder::start(std::string& error) {
     if (e.kind == wire::EventKind::Frame && !handle(e.frame, *e.message, write_error)) return true;
     return !camera_replies_pending();
   };
-  if (!wait_for(answered, options_.timeout_ms, "no reply to a camera's Geometry or GetConfig", error))
+  if (camera_replies_pending() &&
+      !wait_for(answered, options_.timeout_ms, "no reply to a camera's Geometry or GetConfig", error)) {
     return false;
+  }
   if (!write_error.empty()) {
     error = write_error;
     return false;
