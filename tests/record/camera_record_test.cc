@@ -6,8 +6,10 @@
 // plays without it, and one cut inside an image record plays what came
 // before.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <thread>
 #include <vector>
@@ -65,18 +67,8 @@ std::vector<float> camera_answers(client::Client& c, const wire::Address& cam) {
 
 class CameraRecordReplay : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::string(P_tmpdir) + "/troupe-camera-record-XXXXXX";
-    ASSERT_NE(mkdtemp(dir_.data()), nullptr);
-  }
-  void TearDown() override {
-    for (const std::string& f : files_) unlink(f.c_str());
-    rmdir(dir_.c_str());
-  }
-  std::string file(const std::string& name) {
-    files_.push_back(dir_ + "/" + name);
-    return files_.back();
-  }
+  ~CameraRecordReplay() override { remove_tree(dir_); }
+  std::string file(const std::string& name) const { return dir_ + "/" + name; }
 
   /// Plays `log` (held open), reads `want` images and the camera's answers
   /// through a client, then stops the player; its stderr in `err`.
@@ -104,8 +96,7 @@ class CameraRecordReplay : public ::testing::Test {
     return seen;
   }
 
-  std::string dir_;
-  std::vector<std::string> files_;
+  const std::string dir_ = make_temp_dir("troupe-camera-record-");
 };
 
 TEST_F(CameraRecordReplay, PlayServesTheImagesAClientReadLiveAndTheCamerasAnswers) {
