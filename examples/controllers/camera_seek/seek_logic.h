@@ -45,8 +45,8 @@ struct SeekDecision {
 };
 
 inline bool near_colour(const uint8_t* px, uint32_t colour, int tolerance) {
-  return std::abs(int(px[0]) - int(colour >> 16 & 0xFF)) <= tolerance &&
-         std::abs(int(px[1]) - int(colour >> 8 & 0xFF)) <= tolerance &&
+  return std::abs(int(px[0]) - int((colour >> 16) & 0xFF)) <= tolerance &&
+         std::abs(int(px[1]) - int((colour >> 8) & 0xFF)) <= tolerance &&
          std::abs(int(px[2]) - int(colour & 0xFF)) <= tolerance;
 }
 
