@@ -132,11 +132,10 @@ int Node::slot_for(Device& dev, uint8_t subtype) {
   return kDataSlots - 1;
 }
 
-void Node::publish(DeviceId device, uint8_t subtype, Body type, flatbuffers::Offset<void> body,
-                   uint64_t time_us) {
+void Node::publish_at(DeviceId device, uint8_t subtype, Body type, flatbuffers::Offset<void> body,
+                      uint64_t time_us) {
   Device& dev = devices_[device];
-  auto frame = writer_.finish(
-      wire::make_header(dev.addr, Kind::Data, subtype, ++dev.seq, time_us ? time_us : now_us()), type, body);
+  auto frame = writer_.finish(wire::make_header(dev.addr, Kind::Data, subtype, ++dev.seq, time_us), type, body);
   int slot = slot_for(dev, subtype);
   // assign() reuses the slot's capacity: no allocation once it has held a
   // sample of this size.

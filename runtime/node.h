@@ -141,7 +141,13 @@ class Node final : public TimerHandler {
   /// 0 means now. Readers get it pushed (or on Pull); drivers subscribed to
   /// the device get on_data().
   void publish(DeviceId device, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body,
-               uint64_t time_us = 0);
+               uint64_t time_us = 0) {
+    publish_at(device, subtype, type, body, time_us ? time_us : now_us());
+  }
+  /// publish() with the header time exactly `time_us`, 0 included: a replay
+  /// gives back a sample a simulator took at time 0 as it was sent.
+  void publish_at(DeviceId device, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body,
+                  uint64_t time_us);
 
   /// Sends a request with the body built since begin() to another driver's
   /// `device` on behalf of `from` (a driver's "requires", e.g. mcl asking the

@@ -27,4 +27,12 @@ inline constexpr size_t kImageEnvelopeBytes = 128;
 /// limit, naming the size and format.
 bool image_fits(uint32_t width, uint32_t height, PixelFormat format, size_t max_frame_bytes, std::string& why);
 
+/// True when an image holds every pixel it says it has: uncompressed, a
+/// known format, a stride of at least a row and `height` rows of data (the
+/// last row may end after its pixels); compressed, some data. Otherwise
+/// false and `why` says what is missing. A frame that verifies can still
+/// carry such an image (a damaged recording, a faulty driver); whoever
+/// serves or reads pixels checks this first.
+bool image_complete(const CameraImage& image, std::string& why);
+
 }  // namespace troupe::wire

@@ -5,12 +5,18 @@
 #include "runtime/log.h"
 #include "runtime/node.h"
 #include "runtime/node_config.h"
+#include "wire/image.h"
 
 namespace troupe::drivers::replay {
 namespace {
 
 // How often a replay waiting for readers looks whether they came, us.
 constexpr uint64_t kReaderCheckUs = 20000;
+
+// The key of a recorded reply: a device and the request's subtype.
+uint64_t reply_key(const wire::Address& addr, uint8_t subtype) {
+  return wire::address_key(addr) * 256 + subtype;
+}
 
 // A play time in loop-clock us at `speed`, saturated far beyond any run.
 uint64_t scaled_us(uint64_t play_us, double speed) {
@@ -45,6 +51,7 @@ bool ReplayDriver::setup(Node& node, const DriverSetup& setup, std::string& erro
   }
   for (DeviceId id : setup.provides) devices_[wire::address_key(node.address(id))] = id;
   if (!reader_.open(options_.path, error)) return false;
+  read_replies();
   if (options_.wait_for_readers) {
     waiting_ = true;
     timer_ = node.loop().start_timer(kReaderCheckUs, kReaderCheckUs, this);
@@ -56,6 +63,29 @@ bool ReplayDriver::setup(Node& node, const DriverSetup& setup, std::string& erro
   }
   begin_pass();
   return true;
+}
+
+void ReplayDriver::read_replies() {
+  record::LogRecord r;
+  while (reader_.next(r)) {
+    const wire::Header& h = *r.message->header();
+    if (h.kind() != wire::Kind::Ack || devices_.count(wire::address_key(h.addr())) == 0) continue;
+    // A recording that asked twice (a reconnection) keeps its first answer.
+    replies_.try_emplace(reply_key(h.addr(), h.subtype()), r.frame.begin(), r.frame.end());
+  }
+  reader_.rewind();
+}
+
+void ReplayDriver::on_request(DeviceId device, const wire::Message& request, RequestToken token) {
+  auto it = replies_.find(reply_key(node_->address(device), request.header()->subtype()));
+  if (it == replies_.end()) return Driver::on_request(device, request, token);
+  const wire::Message& reply = *wire::trusted_message(it->second);  // verified when read_replies() read it
+  if (reply.body_type() != wire::Body::NONE && !copier_.can_copy(reply.body_type())) {
+    return Driver::on_request(device, request, token);
+  }
+  auto& b = node_->begin();
+  flatbuffers::Offset<void> body = copier_.copy(b, reply);
+  node_->ack(token, reply.body_type(), body);
 }
 
 void ReplayDriver::shutdown() {
@@ -157,9 +187,21 @@ void ReplayDriver::publish(const record::LogRecord& record) {
     }
     return;
   }
+  std::string why;
+  if (const wire::CameraImage* image = msg.body_as_CameraImage();
+      image && !wire::image_complete(*image, why)) {
+    // Served, it would hand a client a buffer shorter than the image it
+    // describes; the images after it are whole and play.
+    if (log_this_one(incomplete_images_)) {
+      log_warn("%s: byte %llu: %s: skipping this image (%llu such so far)", options_.path.c_str(),
+               static_cast<unsigned long long>(record.offset), why.c_str(),
+               static_cast<unsigned long long>(incomplete_images_));
+    }
+    return;
+  }
   auto& b = node_->begin();
   flatbuffers::Offset<void> body = copier_.copy(b, msg);
-  node_->publish(it->second, h.subtype(), msg.body_type(), body, wire::time_us(h));
+  node_->publish_at(it->second, h.subtype(), msg.body_type(), body, wire::time_us(h));
   ++published_;
 }
 

@@ -8,12 +8,16 @@
 // it too (replay.fbs).
 //
 // Provides: devices of the log's DeviceList record; frames of devices it
-// does not provide are skipped. Commands are ignored; requests are refused
-// as unsupported (a log holds data only).
+// does not provide are skipped. Commands are ignored. Requests whose reply
+// the log holds (a camera's Geometry and GetConfig, which `troupe record`
+// asks for) are answered with that reply; others are refused as unsupported.
+// An image that lacks pixels it claims (a damaged recording) is skipped
+// with a warning naming its byte offset; the rest plays.
 #pragma once
 
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 #include "runtime/driver.h"
 #include "wire/body_copy.h"
@@ -42,6 +46,7 @@ class ReplayDriver : public Driver {
   ReplayDriver() = default;
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_timer(TimerId id) override;
+  void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
   void shutdown() override;
 
   /// True once the whole file (without --loop) has been published.
@@ -50,6 +55,8 @@ class ReplayDriver : public Driver {
   uint64_t published() const { return published_; }
   /// Passes begun (more than one with --loop).
   uint32_t passes() const { return passes_; }
+  /// Images skipped because they lack pixels they claim.
+  uint64_t incomplete_images() const { return incomplete_images_; }
 
  private:
   void begin_pass();
@@ -59,12 +66,16 @@ class ReplayDriver : public Driver {
   /// of the playable part.
   bool read_data();
   void publish(const record::LogRecord& record);
+  /// Keeps the first Ack of each device and request subtype in the log.
+  void read_replies();
 
   Options options_;
   bool configured_ = false;  // options_ given to the constructor
   record::LogReader reader_;
   const wire::BodyCopier& copier_ = wire::body_copier();
   std::unordered_map<uint64_t, DeviceId> devices_;  // by wire::address_key
+  // Recorded Ack frames, by address_key * 256 + request subtype.
+  std::unordered_map<uint64_t, std::vector<uint8_t>> replies_;
   record::PlayClock clock_;
   record::LogRecord current_;
   uint64_t current_play_us_ = 0;  // current_'s play time, us after the pass's first record
@@ -79,6 +90,7 @@ class ReplayDriver : public Driver {
   bool finished_ = false;
   bool warned_unknown_ = false;
   uint64_t published_ = 0;
+  uint64_t incomplete_images_ = 0;
   uint32_t passes_ = 0;
 };
 

@@ -148,5 +148,27 @@ TEST(ImageFits, RefusesWhatExceedsTheLimitAndSaysWhy) {
   EXPECT_FALSE(wire::image_fits(100, 100, wire::PixelFormat::Mono8, need - 1, why));
 }
 
+// An image that claims more pixels than it carries is told apart, with the
+// sizes, whichever of its fields is short.
+TEST(ImageComplete, SaysWhatAnImageLacks) {
+  auto check = [](uint16_t w, uint16_t h, wire::PixelFormat f, uint32_t stride, size_t bytes, std::string& why) {
+    flatbuffers::FlatBufferBuilder b;
+    std::vector<uint8_t> data(bytes, 7);
+    b.Finish(wire::CreateCameraImage(b, w, h, f, stride, wire::ImageCompression::None, b.CreateVector(data)));
+    return wire::image_complete(*flatbuffers::GetRoot<wire::CameraImage>(b.GetBufferPointer()), why);
+  };
+  std::string why;
+  EXPECT_TRUE(check(4, 3, wire::PixelFormat::Rgb8, 12, 36, why));
+  // Padded rows: the last row may end after its pixels.
+  EXPECT_TRUE(check(4, 3, wire::PixelFormat::Rgb8, 16, 16 * 2 + 12, why));
+  EXPECT_FALSE(check(4, 3, wire::PixelFormat::Rgb8, 16, 16 * 2 + 11, why));
+  EXPECT_EQ(why, "a 4x3 Rgb8 image with 43 bytes of pixels, 1 short of its 44");
+  EXPECT_FALSE(check(4, 3, wire::PixelFormat::DepthF32, 12, 36, why));
+  EXPECT_EQ(why, "a 4x3 DepthF32 image with a stride of 12 bytes, under its 16-byte rows");
+  EXPECT_FALSE(check(4, 3, wire::PixelFormat(9), 12, 36, why));
+  EXPECT_EQ(why, "an image of unknown pixel format 9");
+  EXPECT_TRUE(check(0, 0, wire::PixelFormat::Mono8, 0, 0, why));
+}
+
 }  // namespace
 }  // namespace troupe::sim

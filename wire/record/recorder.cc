@@ -125,8 +125,23 @@ bool Recorder::start(std::string& error) {
   if (!writer_.open(options_.output, unix_us(), error)) return false;
   start_us_ = monotonic_us();
   if (!writer_.write(0, hello_, error) || !writer_.write(0, recorded, error)) return false;
-  send_opens();
+  // Asked before the Open: a node refuses requests from a client that
+  // opened the device read-only.
+  send_camera_requests();
   std::string write_error;
+  auto answered = [&](const wire::Event& e) {
+    if (e.kind == wire::EventKind::Frame && !handle(e.frame, *e.message, write_error)) return true;
+    return !camera_replies_pending();
+  };
+  if (camera_replies_pending() &&
+      !wait_for(answered, options_.timeout_ms, "no reply to a camera's Geometry or GetConfig", error)) {
+    return false;
+  }
+  if (!write_error.empty()) {
+    error = write_error;
+    return false;
+  }
+  send_opens();
   auto opened = [&](const wire::Event& e) {
     if (e.kind == wire::EventKind::Frame && !handle(e.frame, *e.message, write_error)) return true;
     return !open_error_.empty() ||
@@ -189,10 +204,28 @@ void Recorder::send_opens() {
   for (Device& d : devices_) {
     d.open_seq = link_.connection().next_seq();
     auto& b = w.start();
-    auto open = wire::CreateOpen(b, wire::Access::Read, wire::Delivery::Push);
+    auto open = wire::CreateOpen(b, wire::Access::Read, wire::Delivery::Push, options_.image_compression);
     link_.send(w.finish(wire::make_header(d.addr, wire::Kind::Open, 0, d.open_seq, monotonic_us()),
                         wire::Body::Open, open.Union()));
   }
+}
+
+void Recorder::send_camera_requests() {
+  wire::MessageWriter w;
+  for (Device& d : devices_) {
+    if (d.addr.iface() != uint16_t(wire::Interface::Camera)) continue;
+    d.geometry_seq = link_.connection().next_seq();
+    link_.send(w.empty(wire::make_header(d.addr, wire::Kind::Request, uint8_t(wire::CameraReqSub::Geometry),
+                                         d.geometry_seq, monotonic_us())));
+    d.config_seq = link_.connection().next_seq();
+    link_.send(w.empty(wire::make_header(d.addr, wire::Kind::Request, uint8_t(wire::CameraReqSub::GetConfig),
+                                         d.config_seq, monotonic_us())));
+  }
+}
+
+bool Recorder::camera_replies_pending() const {
+  return std::any_of(devices_.begin(), devices_.end(),
+                     [](const Device& d) { return d.geometry_seq != 0 || d.config_seq != 0; });
 }
 
 bool Recorder::handle(std::span<const uint8_t> frame, const wire::Message& msg, std::string& error) {
@@ -205,9 +238,20 @@ bool Recorder::handle(std::span<const uint8_t> frame, const wire::Message& msg, 
     ++frames_;
   } else if (h.kind() == wire::Kind::Ack || h.kind() == wire::Kind::Nack) {
     for (Device& d : devices_) {
-      if (d.open_seq != h.seq()) continue;
-      d.acked = true;
-      if (h.kind() == wire::Kind::Nack) open_error_ = "cannot open " + d.name + ": " + nack_text(msg);
+      if (d.open_seq == h.seq()) {
+        d.acked = true;
+        if (h.kind() == wire::Kind::Nack) open_error_ = "cannot open " + d.name + ": " + nack_text(msg);
+      } else if (h.seq() != 0 && (d.geometry_seq == h.seq() || d.config_seq == h.seq())) {
+        (d.geometry_seq == h.seq() ? d.geometry_seq : d.config_seq) = 0;
+        // A camera that does not answer is still recorded; play then
+        // refuses that request as a node without the answer would.
+        if (h.kind() == wire::Kind::Nack) {
+          log_warn("%s did not answer %s (%s); play will refuse it", d.name.c_str(),
+                   wire::EnumNameCameraReqSub(wire::CameraReqSub(h.subtype())), nack_text(msg).c_str());
+        } else if (!writer_.write(monotonic_us() - start_us_, frame, error)) {
+          return false;
+        }
+      }
     }
   }
   return true;

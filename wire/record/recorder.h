@@ -33,6 +33,10 @@ struct RecordOptions {
   uint32_t reconnect_max_ms = 2000;
   /// Looks up the host: every address it gives is tried, in order.
   wire::Resolver resolver = wire::resolve_system;
+  /// How cameras are asked to pack their images (Open's `compression`).
+  /// The log keeps whatever each image says it is, so a camera that cannot
+  /// compress is recorded raw either way.
+  wire::ImageCompression image_compression = wire::ImageCompression::None;
   /// A secure session's transport (wire/noise/client_keys.h), under every
   /// connection and reconnection; nullptr: plain TCP.
   std::shared_ptr<wire::Transport> transport;
@@ -61,10 +65,17 @@ class Recorder {
     std::string name;  // as the user wrote it, for messages
     uint32_t open_seq = 0;
     bool acked = false;
+    // Cameras: the Geometry and GetConfig requests whose replies the log
+    // keeps, so that play answers them (0: none outstanding).
+    uint32_t geometry_seq = 0, config_seq = 0;
   };
 
   bool resolve(std::string& error);
   void send_opens();
+  /// Asks every camera for its geometry and configuration; their Acks go
+  /// into the log beside the data.
+  void send_camera_requests();
+  bool camera_replies_pending() const;
   /// Writes a Data frame of a recorded device; notes Open replies.
   bool handle(std::span<const uint8_t> frame, const wire::Message& msg, std::string& error);
   /// Takes the connection's events until `until` says it has what it waits
