@@ -1,0 +1,146 @@
+#include "wire/png.h"
+
+#include <zlib.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "wire/image.h"
+
+namespace troupe::wire {
+namespace {
+
+void put_u32_be(std::vector<uint8_t>& out, uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(uint8_t(v >> shift));
+}
+
+// A chunk: length, type, data, then the CRC-32 of type and data (PNG 1.2,
+// section 5.3).
+void put_chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* data, size_t size) {
+  put_u32_be(out, uint32_t(size));
+  const size_t type_at = out.size();
+  out.insert(out.end(), type, type + 4);
+  if (size != 0) out.insert(out.end(), data, data + size);
+  put_u32_be(out, uint32_t(crc32(0, out.data() + type_at, uInt(size + 4))));
+}
+
+// The Paeth predictor (PNG 1.2, section 6.6).
+uint8_t paeth(int a, int b, int c) {
+  const int p = a + b - c;
+  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+  if (pa <= pb && pa <= pc) return uint8_t(a);
+  return pb <= pc ? uint8_t(b) : uint8_t(c);
+}
+
+// Filters one row four ways (None, Sub, Up, Paeth) and appends the one whose
+// bytes, read as signed, sum smallest: the heuristic the PNG specification
+// suggests, which lets deflate find the runs in flat rendered surfaces.
+void filter_row(const uint8_t* row, const uint8_t* above, size_t n, size_t bpp, std::vector<uint8_t>& out,
+                std::vector<uint8_t>& trial) {
+  static constexpr uint8_t kTypes[] = {0, 1, 2, 4};
+  trial.resize(n);
+  size_t best_sum = SIZE_MAX;
+  const size_t row_at = out.size();
+  out.resize(row_at + 1 + n);
+  for (uint8_t type : kTypes) {
+    size_t sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const int a = i >= bpp ? row[i - bpp] : 0;
+      const int b = above ? above[i] : 0;
+      const int c = above && i >= bpp ? above[i - bpp] : 0;
+      uint8_t predicted = 0;
+      if (type == 1) predicted = uint8_t(a);
+      if (type == 2) predicted = uint8_t(b);
+      if (type == 4) predicted = paeth(a, b, c);
+      trial[i] = uint8_t(row[i] - predicted);
+      sum += size_t(std::abs(int(int8_t(trial[i]))));
+    }
+    if (sum < best_sum) {
+      best_sum = sum;
+      out[row_at] = type;
+      std::copy(trial.begin(), trial.end(), out.begin() + long(row_at) + 1);
+    }
+  }
+}
+
+}  // namespace
+
+bool encode_png(const ImageView& image, std::vector<uint8_t>& png, std::string& why) {
+  png.clear();
+  uint8_t bit_depth = 8, colour_type = 0;  // PNG colour types: 0 grey, 2 RGB
+  switch (image.format) {
+    case PixelFormat::Rgb8:
+      colour_type = 2;
+      break;
+    case PixelFormat::Mono8:
+      break;
+    case PixelFormat::DepthU16:
+      bit_depth = 16;
+      break;
+    default:
+      why = std::string("a ") + EnumNamePixelFormat(image.format) +
+            " image has no lossless PNG form: ask the camera for DepthU16 (millimetres) to compress depth";
+      return false;
+  }
+  const size_t bpp = bytes_per_pixel(image.format);
+  const size_t row_bytes = size_t(image.width) * bpp;
+  char text[160];
+  if (image.width == 0 || image.height == 0 || image.width > 0x7fffffffu || image.height > 0x7fffffffu) {
+    snprintf(text, sizeof text, "a %ux%u image cannot be a PNG (1 to 2^31-1 pixels each way)",
+             unsigned(image.width), unsigned(image.height));
+    why = text;
+    return false;
+  }
+  const size_t need = size_t(image.stride) * (image.height - 1) + row_bytes;
+  if (image.stride < row_bytes || image.data.size() < need) {
+    snprintf(text, sizeof text, "a %ux%u %s image with stride %u needs %zu bytes, it has %zu",
+             unsigned(image.width), unsigned(image.height), EnumNamePixelFormat(image.format),
+             unsigned(image.stride), need, image.data.size());
+    why = text;
+    return false;
+  }
+
+  // The filtered scanlines, each with its filter byte. The wire's 16-bit
+  // samples are little-endian; PNG's are big-endian, so they are swapped
+  // into a row first and filtered from there.
+  std::vector<uint8_t> raw, trial, swapped(bit_depth == 16 ? 2 * row_bytes : 0);
+  raw.reserve((row_bytes + 1) * image.height);
+  for (uint32_t y = 0; y < image.height; ++y) {
+    const uint8_t* row = image.data.data() + size_t(y) * image.stride;
+    const uint8_t* above = y > 0 ? image.data.data() + size_t(y - 1) * image.stride : nullptr;
+    if (bit_depth == 16) {
+      uint8_t* now = swapped.data() + (y % 2) * row_bytes;
+      for (size_t i = 0; i < row_bytes; i += 2) {
+        now[i] = row[i + 1];
+        now[i + 1] = row[i];
+      }
+      row = now;
+      above = y > 0 ? swapped.data() + ((y + 1) % 2) * row_bytes : nullptr;
+    }
+    filter_row(row, above, row_bytes, bpp, raw, trial);
+  }
+
+  uLongf packed_size = compressBound(uLong(raw.size()));
+  std::vector<uint8_t> packed(packed_size);
+  // Level 6, zlib's default: most of level 9's size for a fraction of its time.
+  if (compress2(packed.data(), &packed_size, raw.data(), uLong(raw.size()), 6) != Z_OK) {
+    why = "zlib could not compress the image";
+    return false;
+  }
+
+  static constexpr uint8_t kSignature[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  png.reserve(sizeof kSignature + 25 + 12 + packed_size + 12);
+  png.insert(png.end(), kSignature, kSignature + sizeof kSignature);
+  // IHDR: width, height, bit depth, colour type, then compression, filter
+  // and interlace methods (all 0: deflate, adaptive filters, none).
+  std::vector<uint8_t> header;
+  put_u32_be(header, image.width);
+  put_u32_be(header, image.height);
+  header.insert(header.end(), {bit_depth, colour_type, 0, 0, 0});
+  put_chunk(png, "IHDR", header.data(), header.size());
+  put_chunk(png, "IDAT", packed.data(), packed_size);
+  put_chunk(png, "IEND", nullptr, 0);
+  return true;
+}
+
+}  // namespace troupe::wire
