@@ -2,8 +2,10 @@
 
 #include <zlib.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 #include "wire/image.h"
 
@@ -140,6 +142,34 @@ bool encode_png(const ImageView& image, std::vector<uint8_t>& png, std::string& 
   put_chunk(png, "IHDR", header.data(), header.size());
   put_chunk(png, "IDAT", packed.data(), packed_size);
   put_chunk(png, "IEND", nullptr, 0);
+  return true;
+}
+
+bool save_png(const CameraImage& image, const std::string& path, std::string& why) {
+  std::vector<uint8_t> encoded;
+  std::span<const uint8_t> bytes;
+  if (image.data() != nullptr) bytes = {image.data()->data(), image.data()->size()};
+  if (image.compression() == ImageCompression::None) {
+    if (!encode_png({image.width(), image.height(), image.format(), image.stride(), bytes}, encoded, why)) {
+      return false;
+    }
+    bytes = encoded;
+  } else if (image.compression() != ImageCompression::Png) {
+    why = std::string("an image compressed as ") + EnumNameImageCompression(image.compression()) +
+          " cannot be saved as PNG";
+    return false;
+  }
+  FILE* f = fopen(path.c_str(), "wb");
+  if (f == nullptr) {
+    why = "cannot write " + path + ": " + strerror(errno);
+    return false;
+  }
+  const bool written = fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const int write_errno = errno;
+  if (fclose(f) != 0 || !written) {
+    why = "cannot write " + path + ": " + strerror(written ? errno : write_errno);
+    return false;
+  }
   return true;
 }
 

@@ -32,4 +32,10 @@ struct ImageView {
 /// than the size and stride say. Deterministic: same image, same bytes.
 bool encode_png(const ImageView& image, std::vector<uint8_t>& png, std::string& why);
 
+/// Writes a received image to the file `path` as PNG: a PNG image's bytes as
+/// they came, raw rows through encode_png(). False, with `why` naming the
+/// file or the image's problem (no PNG form, rows shorter than it says, an
+/// unknown compression, a file that cannot be written).
+bool save_png(const CameraImage& image, const std::string& path, std::string& why);
+
 }  // namespace troupe::wire

@@ -5,53 +5,16 @@
 #include "wire/png.h"
 
 #include <gtest/gtest.h>
-#include <png.h>
+#include <png.h>  // colour type constants
 
 #include <cstring>
 
 #include "runtime/random.h"
+#include "tests/support/png_decode.h"
 #include "wire/image.h"
 
 namespace troupe::wire {
 namespace {
-
-struct Decoded {
-  uint32_t width = 0, height = 0;
-  int bit_depth = 0, colour_type = 0;
-  std::vector<std::vector<uint8_t>> rows;  // as libpng gives them: 16-bit samples big-endian
-};
-
-// libpng's simplified-free reading API over a memory buffer.
-Decoded decode_with_libpng(const std::vector<uint8_t>& file) {
-  Decoded out;
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  struct Reader {
-    const std::vector<uint8_t>* file;
-    size_t at = 0;
-  } reader{&file};
-  png_set_read_fn(png, &reader, [](png_structp p, png_bytep data, png_size_t n) {
-    auto* r = static_cast<Reader*>(png_get_io_ptr(p));
-    if (r->at + n > r->file->size()) png_error(p, "read past the end");
-    std::memcpy(data, r->file->data() + r->at, n);
-    r->at += n;
-  });
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    ADD_FAILURE() << "libpng refused the file";
-    return Decoded{};
-  }
-  png_read_info(png, info);
-  out.width = png_get_image_width(png, info);
-  out.height = png_get_image_height(png, info);
-  out.bit_depth = png_get_bit_depth(png, info);
-  out.colour_type = png_get_color_type(png, info);
-  out.rows.assign(out.height, std::vector<uint8_t>(png_get_rowbytes(png, info)));
-  for (auto& row : out.rows) png_read_row(png, row.data(), nullptr);
-  png_read_end(png, nullptr);
-  png_destroy_read_struct(&png, &info, nullptr);
-  return out;
-}
 
 // An image whose left half is flat colour bands and right half noise, with
 // `pad` bytes of junk after each row.
@@ -77,17 +40,16 @@ void expect_round_trip(PixelFormat format, uint32_t w, uint32_t h, size_t pad, i
   std::vector<uint8_t> png;
   std::string why;
   ASSERT_TRUE(encode_png(view, png, why)) << why;
-  const Decoded d = decode_with_libpng(png);
+  test::DecodedPng d;
+  ASSERT_TRUE(test::decode_png(png, d, why)) << why;
   ASSERT_EQ(d.width, w);
   ASSERT_EQ(d.height, h);
   EXPECT_EQ(d.bit_depth, bit_depth);
   EXPECT_EQ(d.colour_type, colour_type);
+  ASSERT_EQ(d.pixels.size(), size_t(w) * h * bpp);
   for (uint32_t y = 0; y < h; ++y) {
-    ASSERT_EQ(d.rows[y].size(), w * bpp);
     for (size_t i = 0; i < w * bpp; ++i) {
-      // 16-bit samples: the wire's little-endian pair is PNG's big-endian one swapped.
-      const size_t from = bit_depth == 16 ? (i ^ 1) : i;
-      ASSERT_EQ(d.rows[y][i], pixels[y * view.stride + from]) << "row " << y << " byte " << i;
+      ASSERT_EQ(d.pixels[y * w * bpp + i], pixels[y * view.stride + i]) << "row " << y << " byte " << i;
     }
   }
 }
