@@ -121,12 +121,14 @@ TEST_F(CameraWire, ImagesGeometryAndConfigurationOverTheWire) {
 // pixels (decoded by libpng, not by us) are the raw reader's; each format
 // with a PNG form, and DepthF32, which has none, raw.
 TEST_F(CameraWire, PngReadersGetTheSameImageCompressed) {
-  client::Client raw_client("127.0.0.1", runner_.port()), png_client("127.0.0.1", runner_.port());
-  ASSERT_TRUE(raw_client.connect() && png_client.connect());
+  client::Client raw_client("127.0.0.1", runner_.port()), png_client("127.0.0.1", runner_.port()),
+      other_png_client("127.0.0.1", runner_.port());
+  ASSERT_TRUE(raw_client.connect() && png_client.connect() && other_png_client.connect());
   client::CameraProxy raw(raw_client, 0, 0);
   client::CameraProxy png(png_client, 0, 0, wire::ImageCompression::Png);
+  client::CameraProxy other_png(other_png_client, 0, 0, wire::ImageCompression::Png);
   client::SimulationProxy sim(raw_client);
-  ASSERT_TRUE(raw.is_open() && png.is_open() && sim.is_open());
+  ASSERT_TRUE(raw.is_open() && png.is_open() && other_png.is_open() && sim.is_open());
   struct Case {
     wire::PixelFormat format;
     int bit_depth, colour_type;
@@ -138,8 +140,13 @@ TEST_F(CameraWire, PngReadersGetTheSameImageCompressed) {
     s.format = k.format;
     ASSERT_TRUE(raw.configure(s)) << raw_client.error();
     ASSERT_TRUE(sim.step(1));
-    ASSERT_TRUE(raw_client.sync() && png_client.sync());
+    ASSERT_TRUE(raw_client.sync() && png_client.sync() && other_png_client.sync());
     ASSERT_EQ(raw.image().compression, wire::ImageCompression::None);
+    // Both PNG readers got the one frame encoded for them (one sequence
+    // number); the raw reader a frame of its own.
+    EXPECT_EQ(other_png.seq(), png.seq());
+    EXPECT_NE(raw.seq(), png.seq());
+    EXPECT_EQ(other_png.image().data, png.image().data);
     ASSERT_EQ(png.image().compression, wire::ImageCompression::Png);
     EXPECT_EQ(png.time_us(), raw.time_us());  // the same step's image
     troupe::test::DecodedPng d;
