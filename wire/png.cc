@@ -34,35 +34,46 @@ uint8_t paeth(int a, int b, int c) {
   return pb <= pc ? uint8_t(b) : uint8_t(c);
 }
 
-// Filters one row four ways (None, Sub, Up, Paeth) and appends the one whose
-// bytes, read as signed, sum smallest: the heuristic the PNG specification
-// suggests, which lets deflate find the runs in flat rendered surfaces.
-void filter_row(const uint8_t* row, const uint8_t* above, size_t n, size_t bpp, std::vector<uint8_t>& out,
-                std::vector<uint8_t>& trial) {
-  static constexpr uint8_t kTypes[] = {0, 1, 2, 4};
-  trial.resize(n);
+// The byte filter `type` predicts for row[i] from its left neighbour a,
+// the byte above b and the one above-left c (PNG 1.2, section 6).
+uint8_t predict(uint8_t type, const uint8_t* row, const uint8_t* above, size_t i, size_t bpp) {
+  const int a = i >= bpp ? row[i - bpp] : 0;
+  const int b = above ? above[i] : 0;
+  const int c = above && i >= bpp ? above[i - bpp] : 0;
+  switch (type) {
+    case 1:
+      return uint8_t(a);
+    case 2:
+      return uint8_t(b);
+    case 4:
+      return paeth(a, b, c);
+    default:
+      return 0;
+  }
+}
+
+// Appends one row filtered with the filter whose bytes, read as signed, sum
+// smallest (the heuristic the PNG specification suggests, which lets
+// deflate find the runs in flat rendered surfaces). Up is tried first and a
+// trial stops once it cannot win: a rendered row is often its upper
+// neighbour again, which costs one pass.
+void filter_row(const uint8_t* row, const uint8_t* above, size_t n, size_t bpp, std::vector<uint8_t>& out) {
+  static constexpr uint8_t kTypes[] = {2, 1, 0, 4};  // Up, Sub, None, Paeth
   size_t best_sum = SIZE_MAX;
-  const size_t row_at = out.size();
-  out.resize(row_at + 1 + n);
+  uint8_t best = 0;
   for (uint8_t type : kTypes) {
     size_t sum = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const int a = i >= bpp ? row[i - bpp] : 0;
-      const int b = above ? above[i] : 0;
-      const int c = above && i >= bpp ? above[i - bpp] : 0;
-      uint8_t predicted = 0;
-      if (type == 1) predicted = uint8_t(a);
-      if (type == 2) predicted = uint8_t(b);
-      if (type == 4) predicted = paeth(a, b, c);
-      trial[i] = uint8_t(row[i] - predicted);
-      sum += size_t(std::abs(int(int8_t(trial[i]))));
+    for (size_t i = 0; i < n && sum < best_sum; ++i) {
+      sum += size_t(std::abs(int(int8_t(uint8_t(row[i] - predict(type, row, above, i, bpp))))));
     }
     if (sum < best_sum) {
       best_sum = sum;
-      out[row_at] = type;
-      std::copy(trial.begin(), trial.end(), out.begin() + long(row_at) + 1);
+      best = type;
     }
+    if (best_sum == 0) break;
   }
+  out.push_back(best);
+  for (size_t i = 0; i < n; ++i) out.push_back(uint8_t(row[i] - predict(best, row, above, i, bpp)));
 }
 
 }  // namespace
@@ -105,7 +116,7 @@ bool encode_png(const ImageView& image, std::vector<uint8_t>& png, std::string& 
   // The filtered scanlines, each with its filter byte. The wire's 16-bit
   // samples are little-endian; PNG's are big-endian, so they are swapped
   // into a row first and filtered from there.
-  std::vector<uint8_t> raw, trial, swapped(bit_depth == 16 ? 2 * row_bytes : 0);
+  std::vector<uint8_t> raw, swapped(bit_depth == 16 ? 2 * row_bytes : 0);
   raw.reserve((row_bytes + 1) * image.height);
   for (uint32_t y = 0; y < image.height; ++y) {
     const uint8_t* row = image.data.data() + size_t(y) * image.stride;
@@ -119,7 +130,7 @@ bool encode_png(const ImageView& image, std::vector<uint8_t>& png, std::string& 
       row = now;
       above = y > 0 ? swapped.data() + ((y + 1) % 2) * row_bytes : nullptr;
     }
-    filter_row(row, above, row_bytes, bpp, raw, trial);
+    filter_row(row, above, row_bytes, bpp, raw);
   }
 
   uLongf packed_size = compressBound(uLong(raw.size()));

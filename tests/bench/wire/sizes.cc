@@ -154,19 +154,8 @@ std::vector<Row> rows() {
   // (Player compresses only as JPEG, lossy): a flat-shaded 320x240 scene as
   // the simulator renders one (sky, a wall, the floor, two boxes), encoded
   // by wire/png.h.
-  std::vector<uint8_t> scene(320 * 240 * 3), png;
-  for (size_t y = 0; y < 240; ++y) {
-    for (size_t x = 0; x < 320; ++x) {
-      const bool red_box = x >= 60 && x < 120 && y >= 100 && y < 170;
-      const bool green_box = x >= 200 && x < 230 && y >= 60 && y < 150;
-      const uint32_t rgb = red_box     ? 0xff0000
-                           : green_box ? 0x00ff00
-                           : y < 80    ? 0xcfe3ff
-                           : y < 120   ? 0x666666
-                                       : 0xb4b4a0;
-      for (size_t k = 0; k < 3; ++k) scene[3 * (y * 320 + x) + k] = uint8_t(rgb >> (16 - 8 * k));
-    }
-  }
+  const std::vector<uint8_t> scene = flat_scene_320x240();
+  std::vector<uint8_t> png;
   std::string why;
   encode_png({320, 240, PixelFormat::Rgb8, 320 * 3, scene}, png, why);
   out.push_back({"camera", "320x240 RGB8 as PNG (flat-shaded scene)",
@@ -179,6 +168,23 @@ std::vector<Row> rows() {
                         }),
                  true});
   return out;
+}
+
+std::vector<uint8_t> flat_scene_320x240() {
+  std::vector<uint8_t> scene(320 * 240 * 3);
+  for (size_t y = 0; y < 240; ++y) {
+    for (size_t x = 0; x < 320; ++x) {
+      const bool red_box = x >= 60 && x < 120 && y >= 100 && y < 170;
+      const bool green_box = x >= 200 && x < 230 && y >= 60 && y < 150;
+      const uint32_t rgb = red_box     ? 0xff0000
+                           : green_box ? 0x00ff00
+                           : y < 80    ? 0xcfe3ff
+                           : y < 120   ? 0x666666
+                                       : 0xb4b4a0;
+      for (size_t k = 0; k < 3; ++k) scene[3 * (y * 320 + x) + k] = uint8_t(rgb >> (16 - 8 * k));
+    }
+  }
+  return scene;
 }
 
 }  // namespace troupe::wire::sizes
