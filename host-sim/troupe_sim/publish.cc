@@ -4,10 +4,11 @@
 #include <cstring>
 #include <string>
 
-#include "host-sim/troupe_sim/sim_server.h"
 #include "wire/image.h"
 #include "wire/log.h"
 #include "wire/png.h"
+
+#include "host-sim/troupe_sim/sim_server.h"
 
 namespace troupe::sim {
 
