@@ -18,7 +18,7 @@ TEST_PACKAGES=(libgtest-dev pkgconf clang-14 libclang-rt-14-dev
   qemu-system-x86 busybox-static cpio iproute2
   g++-arm-linux-gnueabihf g++-aarch64-linux-gnu g++-powerpc-linux-gnu qemu-user systemd
   autoconf automake libtool make patch xz-utils
-  python3 python3-flatbuffers python3-nacl chromium
+  python3 python3-flatbuffers python3-nacl python3-pil chromium
   libfastrtps-dev fastddsgen default-jre-headless tshark
   golang-go golang-github-flynn-noise-dev)
 

@@ -78,6 +78,13 @@ class Driver : public FdHandler, public TimerHandler {
   /// Node::forget_data), so that the first sample a reader sees is current.
   virtual void on_read_start(DeviceId /*device*/) {}
 
+  /// A client opened `device` for reading asking for images packed as
+  /// `compression` (its Open's), which no other reader of it asked for;
+  /// called after on_read_start(), before the reader is added. A camera
+  /// that packs images per reader (Node::publish_packed) publishes its
+  /// current image so packed now, for the same reason as on_read_start().
+  virtual void on_packing_start(DeviceId /*device*/, wire::ImageCompression /*compression*/) {}
+
   /// Data published by a device this driver subscribed to (Node::subscribe).
   virtual void on_data(DeviceId /*source*/, const wire::Message& /*data*/) {}
 

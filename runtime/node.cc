@@ -101,6 +101,13 @@ bool Node::has_readers(DeviceId device) const {
   return !dev.readers.empty() || !dev.subscribers.empty();
 }
 
+bool Node::has_readers(DeviceId device, wire::ImageCompression compression) const {
+  const Device& dev = devices_[device];
+  if (compression == wire::ImageCompression::None && !dev.subscribers.empty()) return true;
+  return std::any_of(dev.readers.begin(), dev.readers.end(),
+                     [compression](const Reader& r) { return r.compression == uint8_t(compression); });
+}
+
 void Node::forget_data(DeviceId device) {
   for (DataSlot& slot : devices_[device].slots) slot.frame.clear();  // keeps the capacity
 }
@@ -117,34 +124,48 @@ Node::Reader* Node::find_reader(Device& dev, uint32_t client) {
   return nullptr;
 }
 
-int Node::slot_for(Device& dev, uint8_t subtype) {
+int Node::slot_for(Device& dev, uint8_t subtype, uint8_t compression) {
   for (int i = 0; i < kDataSlots; ++i) {
-    if (dev.slots[i].subtype == subtype && !dev.slots[i].frame.empty()) return i;
+    const DataSlot& s = dev.slots[i];
+    if (s.subtype == subtype && s.compression == compression && !s.frame.empty()) return i;
   }
+  int slot = kDataSlots - 1;  // more data subtypes than slots: the last slot is shared by the extras
   for (int i = 0; i < kDataSlots; ++i) {
     if (dev.slots[i].frame.empty()) {
-      dev.slots[i].subtype = subtype;
-      return i;
+      slot = i;
+      break;
     }
   }
-  // More data subtypes than slots: the last slot is shared by the extras.
-  dev.slots[kDataSlots - 1].subtype = subtype;
-  return kDataSlots - 1;
+  dev.slots[slot].subtype = subtype;
+  dev.slots[slot].compression = compression;
+  return slot;
 }
 
 void Node::publish_at(DeviceId device, uint8_t subtype, Body type, flatbuffers::Offset<void> body,
                       uint64_t time_us) {
+  publish_to(device, kEveryReader, subtype, type, body, time_us);
+}
+
+void Node::publish_packed(DeviceId device, wire::ImageCompression compression, uint8_t subtype, Body type,
+                          flatbuffers::Offset<void> body) {
+  publish_to(device, uint8_t(compression), subtype, type, body, now_us());
+}
+
+void Node::publish_to(DeviceId device, uint8_t compression, uint8_t subtype, Body type,
+                      flatbuffers::Offset<void> body, uint64_t time_us) {
   Device& dev = devices_[device];
   auto frame = writer_.finish(wire::make_header(dev.addr, Kind::Data, subtype, ++dev.seq, time_us), type, body);
-  int slot = slot_for(dev, subtype);
+  int slot = slot_for(dev, subtype, compression);
   // assign() reuses the slot's capacity: no allocation once it has held a
   // sample of this size.
   dev.slots[slot].frame.assign(frame.begin(), frame.end());
   const std::vector<uint8_t>& stored = dev.slots[slot].frame;
   for (const Reader& r : dev.readers) {
-    if (r.delivery == uint8_t(wire::Delivery::Push)) server_->push_data(r.client, device, slot, stored);
+    if (r.delivery == uint8_t(wire::Delivery::Push) && r.wants(dev.slots[slot])) {
+      server_->push_data(r.client, device, slot, stored);
+    }
   }
-  if (!dev.subscribers.empty()) {
+  if (!dev.subscribers.empty() && compression != uint8_t(wire::ImageCompression::Png)) {
     const wire::Message* msg = wire::trusted_message(stored);
     for (Driver* d : dev.subscribers) d->on_data(device, *msg);
   }
@@ -263,6 +284,7 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
   const wire::Open* open = msg.body_as_Open();
   auto access = open ? open->access() : wire::Access::All;
   auto delivery = open ? open->delivery() : wire::Delivery::Push;
+  const uint8_t compression = open ? uint8_t(open->compression()) : 0;
   // Opening to read needs the right to read; opening only to write needs
   // the right to command or to request (each is checked again as it comes).
   const bool reads = uint8_t(access) & uint8_t(wire::Access::Read);
@@ -270,27 +292,38 @@ void Node::handle_open(uint32_t client, DeviceId id, const wire::Message& msg) {
     return;
   }
   Reader* r = find_reader(dev, client);
+  const bool new_packing = reads && dev.driver != nullptr &&
+                           std::none_of(dev.readers.begin(), dev.readers.end(), [&](const Reader& o) {
+                             return o.client != client && o.compression == compression;
+                           });
   if (r == nullptr) {
     // Before the reader is added: what the driver publishes now is stored
     // and reaches the reader below, once, after the Ack.
     if (!has_readers(id) && reads && dev.driver != nullptr) {
       dev.driver->on_read_start(id);
     }
-    dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access)});
+    if (new_packing) dev.driver->on_packing_start(id, wire::ImageCompression(compression));
+    dev.readers.push_back(Reader{client, uint8_t(delivery), 0, uint8_t(access), compression});
     r = &dev.readers.back();
     auto& c = server_->clients_[client];
     c.opened.push_back(id);
     c.dirty.reserve(c.opened.size());  // each opened device is dirty at most once
   } else {
+    if (new_packing && r->compression != compression) {
+      dev.driver->on_packing_start(id, wire::ImageCompression(compression));
+    }
     r->delivery = uint8_t(delivery);
     r->access = uint8_t(access);
+    r->compression = compression;
   }
   reply_status(client, *msg.header(), Kind::Ack);
   // A new reader gets the current state at once rather than at the next
   // sample, which may be long in coming for slow devices.
   if (reads && delivery == wire::Delivery::Push) {
     for (int slot = 0; slot < kDataSlots; ++slot) {
-      if (!dev.slots[slot].frame.empty()) server_->push_data(client, id, slot, dev.slots[slot].frame);
+      if (!dev.slots[slot].frame.empty() && r->wants(dev.slots[slot])) {
+        server_->push_data(client, id, slot, dev.slots[slot].frame);
+      }
     }
   }
 }
@@ -304,8 +337,12 @@ void Node::handle_close(uint32_t client, DeviceId id, const wire::Message& msg) 
 
 void Node::handle_pull(uint32_t client, DeviceId id, const wire::Message& msg) {
   Device& dev = devices_[id];
+  // A client that pulls without having opened the device gets raw data.
+  const Reader* r = find_reader(dev, client);
+  const Reader raw{client, 0};
   for (int slot = 0; slot < kDataSlots; ++slot) {
-    if (!dev.slots[slot].frame.empty() && !server_->send_reliable(client, dev.slots[slot].frame)) return;
+    if (dev.slots[slot].frame.empty() || !(r ? r : &raw)->wants(dev.slots[slot])) continue;
+    if (!server_->send_reliable(client, dev.slots[slot].frame)) return;
   }
   // The Ack marks the end of the batch for the client.
   reply_status(client, *msg.header(), Kind::Ack);

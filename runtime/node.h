@@ -125,6 +125,9 @@ class Node final : public TimerHandler {
   /// True while some client (or a driver) reads the device's data: a driver
   /// may skip computing data nobody reads.
   bool has_readers(DeviceId device) const;
+  /// True while some client reads the device asking for images packed as
+  /// `compression` (its Open's), or, for None, while a driver reads it.
+  bool has_readers(DeviceId device, wire::ImageCompression compression) const;
   /// Drops the device's stored samples (a new reader gets nothing until the
   /// next publish): for a driver whose stored data went stale while nobody
   /// read the device.
@@ -148,6 +151,12 @@ class Node final : public TimerHandler {
   /// gives back a sample a simulator took at time 0 as it was sent.
   void publish_at(DeviceId device, uint8_t subtype, wire::Body type, flatbuffers::Offset<void> body,
                   uint64_t time_us);
+  /// Publishes like publish(), but only to the readers whose Open asked for
+  /// `compression` (and, for None, to the drivers subscribed): a camera
+  /// packs each image once per compression its readers asked for. A device
+  /// that compresses nothing uses publish(), and every reader gets raw rows.
+  void publish_packed(DeviceId device, wire::ImageCompression compression, uint8_t subtype, wire::Body type,
+                      flatbuffers::Offset<void> body);
 
   /// Sends a request with the body built since begin() to another driver's
   /// `device` on behalf of `from` (a driver's "requires", e.g. mcl asking the
@@ -181,15 +190,22 @@ class Node final : public TimerHandler {
 
   static constexpr int kDataSlots = 4;  // data subtypes remembered per device
 
+  static constexpr uint8_t kEveryReader = 0xff;  // DataSlot::compression of publish()'s data
+
   struct DataSlot {
     uint8_t subtype = 0;
-    std::vector<uint8_t> frame;  // newest Data frame of this subtype
+    uint8_t compression = kEveryReader;  // or the wire::ImageCompression its readers asked for
+    std::vector<uint8_t> frame;          // newest Data frame of this subtype
   };
   struct Reader {
     uint32_t client;    // server client slot
     uint8_t delivery;   // wire::Delivery
     uint8_t dirty = 0;  // bit i: slot i not yet sent to this client
     uint8_t access = uint8_t(wire::Access::All);
+    uint8_t compression = 0;  // wire::ImageCompression asked in the Open
+    bool wants(const DataSlot& slot) const {
+      return slot.compression == kEveryReader || slot.compression == compression;
+    }
   };
   struct Device {
     wire::Address addr;
@@ -241,7 +257,9 @@ class Node final : public TimerHandler {
   bool claim_request_slot(uint32_t& slot);
   void reply_to_driver(Pending& p, std::span<const uint8_t> frame);
   Reader* find_reader(Device& dev, uint32_t client);
-  int slot_for(Device& dev, uint8_t subtype);
+  int slot_for(Device& dev, uint8_t subtype, uint8_t compression);
+  void publish_to(DeviceId device, uint8_t compression, uint8_t subtype, wire::Body type,
+                  flatbuffers::Offset<void> body, uint64_t time_us);
 
   Options options_;
   EventLoop loop_;

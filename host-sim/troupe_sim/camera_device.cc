@@ -32,6 +32,9 @@ void SimServer::camera_request(Device& d, const wire::Message& req, RequestToken
     if (c->rate() > 0) d.rate = c->rate();
     d.refused_logged = false;
     d.last_image = -1;
+    // Images of the old configuration go: a new reader must not get one, and
+    // a change to DepthF32 (no PNG form) leaves no PNG image behind.
+    node_->forget_data(d.id);
   } else if (sub != uint8_t(Sub::GetConfig) && sub != uint8_t(Sub::Geometry)) {
     return Driver::on_request(d.id, req, token);
   }

@@ -6,6 +6,7 @@
 
 #include "wire/image.h"
 #include "wire/log.h"
+#include "wire/png.h"
 
 #include "host-sim/troupe_sim/sim_server.h"
 
@@ -50,14 +51,16 @@ void SimServer::on_read_start(DeviceId id) {
     default:
       break;
   }
-  if (computed_at != world_.steps()) return;
-  if (d->kind == Kind::Camera) {
-    Device& cam = devices_[id - first_];
-    cam.last_image = -1;  // a new reader gets an image now, whatever the rate
-    publish_camera(cam);
-  } else {
-    publish_one(*d);
-  }
+  // A camera's image goes out from on_packing_start(), which follows, packed
+  // as the reader asked.
+  if (computed_at != world_.steps() || d->kind == Kind::Camera) return;
+  publish_one(*d);
+}
+
+void SimServer::on_packing_start(DeviceId id, wire::ImageCompression compression) {
+  const Device* d = find(id);
+  if (d == nullptr || d->kind != Kind::Camera || world_.camera(d->index).step != world_.steps()) return;
+  publish_camera(devices_[id - first_], compression);  // now, whatever the rate
 }
 
 void SimServer::publish_one(const Device& d) {
@@ -172,10 +175,10 @@ void SimServer::publish_bumper(const Device& d) {
   node_->publish(d.id, uint8_t(wire::BumperDataSub::State), wire::Body::BumperState, body.Union());
 }
 
-void SimServer::publish_camera(Device& d) {
+void SimServer::publish_camera(Device& d, std::optional<wire::ImageCompression> only) {
   const CameraView v = world_.camera(d.index);
   if (v.step == UINT64_MAX || v.width == 0) return;
-  if (d.rate > 0 && d.last_image >= 0 && world_.time() - d.last_image < 1.0 / d.rate - 1e-9) return;
+  if (!only && d.rate > 0 && d.last_image >= 0 && world_.time() - d.last_image < 1.0 / d.rate - 1e-9) return;
   std::string why;
   if (!wire::image_fits(uint32_t(v.width), uint32_t(v.height), d.format, node_->options().limits.max_frame_bytes,
                         why)) {
@@ -216,13 +219,27 @@ void SimServer::publish_camera(Device& d) {
       }
       break;
   }
-  auto& b = node_->begin();
-  auto data = b.CreateVector(scratch_pixels_);
-  auto body = wire::CreateCameraImage(b, uint16_t(v.width), uint16_t(v.height), d.format,
-                                      uint32_t(size_t(v.width) * bpp), wire::ImageCompression::None, data);
-  // No stamp_us: the image is of this step, whose time the header carries.
-  node_->publish(d.id, uint8_t(wire::CameraDataSub::Image), wire::Body::CameraImage, body.Union());
-  d.last_image = world_.time();
+  const uint32_t stride = uint32_t(size_t(v.width) * bpp);
+  // Each packing readers asked for is published once, to them only: PNG
+  // readers share one encoding of the image. An image with no PNG form
+  // (DepthF32), or whose PNG would not fit a frame, reaches them raw.
+  for (auto packing : {wire::ImageCompression::None, wire::ImageCompression::Png}) {
+    if (only ? *only != packing : !node_->has_readers(d.id, packing)) continue;
+    std::string png_why;
+    const bool png =
+        packing == wire::ImageCompression::Png &&
+        wire::encode_png({uint32_t(v.width), uint32_t(v.height), d.format, stride, scratch_pixels_},
+                         scratch_png_, png_why) &&
+        scratch_png_.size() + wire::kImageEnvelopeBytes <= node_->options().limits.max_frame_bytes;
+    auto& b = node_->begin();
+    auto data = b.CreateVector(png ? scratch_png_ : scratch_pixels_);
+    auto body = wire::CreateCameraImage(b, uint16_t(v.width), uint16_t(v.height), d.format, png ? 0 : stride,
+                                        png ? packing : wire::ImageCompression::None, data);
+    // No stamp_us: the image is of this step, whose time the header carries.
+    node_->publish_packed(d.id, packing, uint8_t(wire::CameraDataSub::Image), wire::Body::CameraImage,
+                          body.Union());
+  }
+  if (!only) d.last_image = world_.time();
 }
 
 void SimServer::publish_power(const Device& d) {

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ class SimServer final : public Driver, private SimulationModels {
   void on_command(DeviceId device, const wire::Message& command) override;
   void on_request(DeviceId device, const wire::Message& request, RequestToken token) override;
   void on_read_start(DeviceId device) override;
+  void on_packing_start(DeviceId device, wire::ImageCompression compression) override;
 
   /// Sets every sensor's wanted flag: read by a client, or asked for by a
   /// controller (the flags set before the server started). True when a
@@ -75,7 +77,9 @@ class SimServer final : public Driver, private SimulationModels {
   void publish_blobs(const Device& d);
   void publish_fiducials(const Device& d);
   void publish_bumper(const Device& d);
-  void publish_camera(Device& d);
+  /// The camera's current image, to the readers that asked for `only`
+  /// (whatever the rate), or to every reader, packed as each asked.
+  void publish_camera(Device& d, std::optional<wire::ImageCompression> only = std::nullopt);
   void publish_power(const Device& d);
   void publish_gripper(const Device& d);
   void publish_clock(const Device& d);
@@ -103,7 +107,8 @@ class SimServer final : public Driver, private SimulationModels {
   std::vector<wire::Pose2d> scratch_poses_;
   std::vector<uint8_t> scratch_cells_;
   std::vector<uint8_t> scratch_pixels_;
-  uint64_t refused_ = 0;  // inputs the world refused, for log_refused()
+  std::vector<uint8_t> scratch_png_;  // the step's image as PNG, shared by every reader that asked
+  uint64_t refused_ = 0;              // inputs the world refused, for log_refused()
 };
 
 }  // namespace troupe::sim

@@ -137,6 +137,30 @@ TEST(Protocol, PullDeliversOnlyTheLatestSampleOnRequest) {
   EXPECT_EQ(seqs[0], 5u);
 }
 
+// A device that compresses nothing publishes to every reader: one whose
+// Open asked for PNG images gets the same frames, pushed or pulled (the
+// simulator's per-packing frames are tested in tests/sim/camera_wire_test).
+TEST(Protocol, AReaderAskingForPngGetsWhatADeviceThatPacksNothingSends) {
+  RecorderNode n(Interface::Ranger);
+  client::Client& raw = *n.client;
+  client::Client push("127.0.0.1", n.node.port()), pull("127.0.0.1", n.node.port());
+  ASSERT_TRUE(push.connect() && pull.connect());
+  std::vector<uint32_t> raw_seqs, push_seqs, pull_seqs;
+  raw.add_data_handler([&](const wire::Message& m) { raw_seqs.push_back(m.header()->seq()); });
+  push.add_data_handler([&](const wire::Message& m) { push_seqs.push_back(m.header()->seq()); });
+  pull.add_data_handler([&](const wire::Message& m) { pull_seqs.push_back(m.header()->seq()); });
+  const auto ranger = addr(Interface::Ranger);
+  ASSERT_TRUE(raw.open(ranger, wire::Access::Read));
+  ASSERT_TRUE(push.open(ranger, wire::Access::Read, wire::Delivery::Push, wire::ImageCompression::Png));
+  ASSERT_TRUE(pull.open(ranger, wire::Access::Read, wire::Delivery::Pull, wire::ImageCompression::Png));
+  n.recorder->burst(1);
+  while (n.recorder->published.load() < 1) raw.spin_once(5);
+  ASSERT_TRUE(raw.sync() && push.sync() && pull.pull(ranger));
+  EXPECT_EQ(raw_seqs, std::vector<uint32_t>{1});
+  EXPECT_EQ(push_seqs, std::vector<uint32_t>{1});
+  EXPECT_EQ(pull_seqs, std::vector<uint32_t>{1});
+}
+
 TEST(Protocol, ReadOnlyOpenRefusesCommands) {
   RecorderNode n(Interface::Position2d);
   Recorder* rec = n.recorder;

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "tests/sim/served_world.h"
+#include "tests/support/png_decode.h"
 #include "wire/client/proxies.h"
 #include "wire/image.h"
 
@@ -133,6 +134,59 @@ TEST_F(CameraWire, ImagesGeometryAndConfigurationOverTheWire) {
   s.width = 5000;
   EXPECT_FALSE(cam.configure(s));
   EXPECT_NE(c.error().find("width is 5000"), std::string::npos) << c.error();
+}
+
+// A reader that asks for PNG gets the step's image as a PNG file whose
+// pixels (decoded by libpng, not by us) are the raw reader's; each format
+// with a PNG form, and DepthF32, which has none, raw.
+TEST_F(CameraWire, PngReadersGetTheSameImageCompressed) {
+  client::Client raw_client("127.0.0.1", runner_.port()), png_client("127.0.0.1", runner_.port()),
+      other_png_client("127.0.0.1", runner_.port());
+  ASSERT_TRUE(raw_client.connect() && png_client.connect() && other_png_client.connect());
+  client::CameraProxy raw(raw_client, 0, 0);
+  client::CameraProxy png(png_client, 0, 0, wire::ImageCompression::Png);
+  client::CameraProxy other_png(other_png_client, 0, 0, wire::ImageCompression::Png);
+  client::SimulationProxy sim(raw_client);
+  ASSERT_TRUE(raw.is_open() && png.is_open() && other_png.is_open() && sim.is_open());
+  struct Case {
+    wire::PixelFormat format;
+    int bit_depth, colour_type;
+  };
+  for (const Case& k : {Case{wire::PixelFormat::Rgb8, 8, 2}, Case{wire::PixelFormat::Mono8, 8, 0},
+                        Case{wire::PixelFormat::DepthU16, 16, 0}}) {
+    SCOPED_TRACE(wire::EnumNamePixelFormat(k.format));
+    client::CameraSettings s;
+    s.format = k.format;
+    ASSERT_TRUE(raw.configure(s)) << raw_client.error();
+    ASSERT_TRUE(sim.step(1));
+    ASSERT_TRUE(raw_client.sync() && png_client.sync() && other_png_client.sync());
+    ASSERT_EQ(raw.image().compression, wire::ImageCompression::None);
+    // Both PNG readers got the one frame encoded for them (one sequence
+    // number); the raw reader a frame of its own.
+    EXPECT_EQ(other_png.seq(), png.seq());
+    EXPECT_NE(raw.seq(), png.seq());
+    EXPECT_EQ(other_png.image().data, png.image().data);
+    ASSERT_EQ(png.image().compression, wire::ImageCompression::Png);
+    EXPECT_EQ(png.time_us(), raw.time_us());  // the same step's image
+    troupe::test::DecodedPng d;
+    std::string why;
+    ASSERT_TRUE(troupe::test::decode_png(png.image().data, d, why)) << why;
+    EXPECT_EQ(d.width, 40u);
+    EXPECT_EQ(d.height, 30u);
+    EXPECT_EQ(d.bit_depth, k.bit_depth);
+    EXPECT_EQ(d.colour_type, k.colour_type);
+    EXPECT_EQ(d.pixels, raw.image().data);
+    EXPECT_LT(png.image().data.size(), raw.image().data.size());  // a wall and the sky: it shrinks
+  }
+  // No PNG form: the PNG reader gets the raw rows, which say so.
+  client::CameraSettings s;
+  s.format = wire::PixelFormat::DepthF32;
+  ASSERT_TRUE(raw.configure(s));
+  ASSERT_TRUE(sim.step(1));
+  ASSERT_TRUE(raw_client.sync() && png_client.sync());
+  EXPECT_EQ(png.image().compression, wire::ImageCompression::None);
+  EXPECT_EQ(png.image().format, wire::PixelFormat::DepthF32);
+  EXPECT_EQ(png.image().data, raw.image().data);
 }
 
 TEST(ImageFits, RefusesWhatExceedsTheLimitAndSaysWhy) {

@@ -9,7 +9,9 @@
 // in the world view where the boxes it sees are (their positions and the
 // canvas pixels there), and that the page reconnects by itself when the
 // simulator (or, under troupe-view, the node) is killed and restarted
-// behind it. Screenshots are kept in the build tree.
+// behind it. In camera.world it checks that the selected robot's camera
+// image in the panel (PNG, decoded by the browser) has the pixels a wire
+// client reads raw. Screenshots are kept in the build tree.
 //
 // usage: node viewer_browser_test.mjs --bin DIR --node PATH --modules DIR --source DIR --out DIR [--shared DIR]
 // Exit 0: passed, 1: failed, 77: skipped (no Chromium).
@@ -284,16 +286,21 @@ async function blobsAndRestartPage(browser) {
   sim.child.kill('SIGTERM');
 }
 
+/// troupe-sim serving `world` paused, with its viewer, and a page on that:
+/// { sim, page, addr } (addr: the simulator's wire port).
+async function pausedSimPage(browser, world, what) {
+  const sim = await start(join(args.bin, 'troupe-sim'), [join(args.source, world), '--port', '0', '--view', '0', '--paused'],
+                          { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ });
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('pageerror', (e) => check(false, `${what}: no error on the page`, e.message));
+  await page.goto(sim.url);
+  return { sim, page, addr: `127.0.0.1:${sim.port}` };
+}
+
 // A RoboCup match: the field, the ball as a disc, the score and a kick.
 async function matchPage(browser) {
   const troupe = join(args.bin, 'troupe');
-  const sim = await start(join(args.bin, 'troupe-sim'),
-                          [join(args.source, 'examples/robocup/match.world'), '--port', '0', '--view', '0', '--paused'],
-                          { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ });
-  const addr = `127.0.0.1:${sim.port}`;
-  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
-  page.on('pageerror', (e) => check(false, 'match: no error on the page', e.message));
-  await page.goto(sim.url);
+  const { sim, page, addr } = await pausedSimPage(browser, 'examples/robocup/match.world', 'match');
   await waitFor(page, () => window.troupeViewer?.ready);
   const names = await page.evaluate(() => troupeViewer.robots());
   check(names.length === 9 && names[8] === 'ball', 'match: 8 robots and the ball', names.join(' '));
@@ -313,6 +320,51 @@ async function matchPage(browser) {
   check(true, 'match: the kick is shown');
   await page.screenshot({ path: join(args.out, 'viewer-match.png') });
   console.log(`screenshot: ${join(args.out, 'viewer-match.png')}`);
+  await page.close();
+  sim.child.kill('SIGTERM');
+}
+
+// The selected robot's camera in the panel: the page asks for PNG and the
+// browser decodes it; the canvas pixels must be the camera's own, as a
+// wire client (`troupe echo --json`, raw rows) reads them at the same
+// paused step. A robot without a camera shows no image.
+async function cameraPage(browser) {
+  const troupe = join(args.bin, 'troupe');
+  const { sim, page, addr } = await pausedSimPage(browser, 'examples/worlds/camera.world', 'camera');
+  await waitFor(page, () => window.troupeViewer?.ready);
+  // Selecting cam opens its devices, cam/camera:0 with PNG asked; one step renders an image.
+  await page.evaluate(() => troupeViewer.select('cam'));
+  await waitFor(page, () => /camera:0/.test(document.getElementById('devices')?.textContent ?? ''));
+  await run(troupe, ['req', addr, 'simulation:0', 'step', '1']);
+  await waitFor(page, () => document.querySelector('#devices canvas.camera') !== null);
+  const shown = await page.locator('#devices li[data-device="cam/camera:0"]').textContent();
+  check(/160x120 Rgb8, Png, \d+ bytes/.test(shown), 'camera: the page gets PNG images', shown);
+  const raw = JSON.parse(await run(troupe, ['echo', addr, 'cam/camera:0', '--json', '--count', '1'])).body;
+  check(raw.width === 160 && raw.height === 120 && raw.stride === 480 && raw.data.length === 57600,
+        'camera: a wire client reads the raw image', `${raw.width}x${raw.height} stride ${raw.stride}`);
+  // Points across the image: the sky, the walls, the floor, the boxes.
+  const points = [[0, 0], [80, 60], [20, 100], [150, 30], [60, 70], [78, 68], [114, 50], [159, 119], [45, 55]];
+  const drawn = await page.evaluate((pts) => {
+    const c = document.querySelector('#devices canvas.camera');
+    const g = c.getContext('2d');
+    return { width: c.width, height: c.height, px: pts.map(([x, y]) => [...g.getImageData(x, y, 1, 1).data.slice(0, 3)]) };
+  }, points);
+  check(drawn.width === 160 && drawn.height === 120, 'camera: the panel draws the image at its size',
+        `${drawn.width}x${drawn.height}`);
+  const distinct = new Set();
+  points.forEach(([x, y], i) => {
+    const at = y * raw.stride + 3 * x;
+    const want = [raw.data[at], raw.data[at + 1], raw.data[at + 2]];
+    distinct.add(want.join(','));
+    check(want.every((v, k) => v === drawn.px[i][k]), `camera: pixel (${x}, ${y}) is the camera's`,
+          `page ${drawn.px[i]} wire ${want}`);
+  });
+  check(distinct.size >= 3, 'camera: the points see different things', [...distinct].join(' '));
+  await page.screenshot({ path: join(args.out, 'viewer-camera.png') });
+  // The visitor has no camera: no image in its panel.
+  await page.evaluate(() => troupeViewer.select('visitor'));
+  await waitFor(page, () => document.querySelector('#selected h2')?.textContent === 'visitor');
+  check(await page.locator('#devices canvas.camera').count() === 0, 'camera: no image for a robot without a camera');
   await page.close();
   sim.child.kill('SIGTERM');
 }
@@ -349,6 +401,7 @@ try {
   await simulatorPage(browser);
   await blobsAndRestartPage(browser);
   await matchPage(browser);
+  await cameraPage(browser);
 
   // A kinematic base, driven in a circle over the wire.
   const troupe = join(args.bin, 'troupe');

@@ -44,16 +44,22 @@ TEST(WireSize, ScansTilesAndLandmarkListsAreAtMostHalfOfPlayers) {
 }
 
 // Raw pixels are the same bytes in both protocols: an image can only be
-// smaller through compression (PNG, reserved in the schema). Until then its
-// envelope is held to within a few dozen bytes of Player's.
+// smaller through compression (PNG, below). A raw one's envelope is held to
+// within a few dozen bytes of Player's.
 TEST(WireSize, AnUncompressedImageCostsAtMostPlayersBytesPlusTheEnvelope) {
   int images = 0;
   for (const Row& r : rows()) {
-    if (r.message != "camera") continue;
+    if (r.message != "camera" || r.contents.find("PNG") != std::string::npos) continue;
     ++images;
     EXPECT_LE(r.troupe_bytes, r.player_bytes + 24) << r.contents;
   }
   EXPECT_EQ(images, 3);
+}
+
+// A rendered scene as PNG: well under half of Player's raw image.
+TEST(WireSize, APngImageOfARenderedSceneIsUnderHalfOfPlayersRawOne) {
+  const Row& png = row("camera", "320x240 RGB8 as PNG (flat-shaded scene)");
+  EXPECT_LT(double(png.troupe_bytes), 0.5 * double(png.player_bytes));
 }
 
 TEST(WireSize, EveryArrayMessageIsSmallerThanPlayersOnceItHoldsAFewElements) {

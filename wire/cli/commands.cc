@@ -8,6 +8,7 @@
 #include "wire/check.h"
 #include "wire/cli/cli.h"
 #include "wire/cli/verbs.h"
+#include "wire/png.h"
 
 namespace troupe::cli {
 namespace {
@@ -37,22 +38,31 @@ int cmd_ls(const std::vector<std::string>& args) {
 int cmd_echo(const std::vector<std::string>& args) {
   struct {
     std::string host, addr;
+    std::string png;
     long count = -1;
     bool json = false, pull = false, udp = false;
   } p;
-  auto app = make_app("troupe echo",
-                      {"troupe echo HOST[:PORT] ADDR [--count N] [--json] [--pull] [--udp]",
-                       "Prints a device's data as it arrives, one line per message, until N messages\n"
-                       "or Ctrl-C. Lines start with the sender's time (s) and the sample number.\n"
-                       "If the node goes away, echo waits and resumes when it is back.\n",
-                       {"troupe echo localhost position2d:0 --count 5", "troupe echo localhost r3/ranger:1 --json"}});
+  auto app =
+      make_app("troupe echo",
+               {"troupe echo HOST[:PORT] ADDR [--count N] [--json] [--pull] [--udp] [--png FILE]",
+                "Prints a device's data as it arrives, one line per message, until N messages\n"
+                "or Ctrl-C. Lines start with the sender's time (s) and the sample number.\n"
+                "If the node goes away, echo waits and resumes when it is back.\n"
+                "With --png (cameras), the camera is asked for PNG images and each image is\n"
+                "also written to FILE (raw ones encoded here); N is then 1 unless given.\n",
+                {"troupe echo localhost position2d:0 --count 5", "troupe echo localhost r3/ranger:1 --json",
+                 "troupe echo localhost cam/camera:0 --png view.png"}});
   add_host(*app, p.host);
   add_device(*app, p.addr);
   app->add_option("--count", p.count, "stop after N messages")->type_name("N")->check(at_least(1));
   app->add_flag("--json", p.json, "the whole message as JSON");
   app->add_flag("--pull", p.pull, "ask for each sample (pull mode) instead of having them pushed");
   app->add_flag("--udp", p.udp, "receive data as UDP datagrams (latest wins)");
+  app->add_option("--png", p.png, "write each camera image to FILE as PNG (the last one stays)")
+      ->type_name("FILE");
   if (int rc = parse(*app, args); rc >= 0) return rc;
+  const bool save = !p.png.empty();
+  if (save && p.count < 0) p.count = 1;
   wire::HostPort hp;
   std::string error;
   if (!wire::parse_host(p.host, hp, error)) return fail(error);
@@ -64,20 +74,30 @@ int cmd_echo(const std::vector<std::string>& args) {
   if (!c.connect(3000)) return fail(c.error());
   wire::Address addr;
   if (!resolve(c, p.addr, addr)) return kExitFailure;
+  if (save && addr.iface() != uint16_t(wire::Interface::Camera)) {
+    return fail("--png saves camera images; " + p.addr + " is a " +
+                std::string(wire::interface_name(addr.iface())) + " device");
+  }
   long printed = 0;
+  std::string save_error;
   c.add_data_handler([&](const wire::Message& msg) {
-    if (!(msg.header()->addr() == addr) || (p.count > 0 && printed >= p.count)) return;
+    if (!(msg.header()->addr() == addr) || (p.count > 0 && printed >= p.count) || !save_error.empty()) return;
+    if (save && msg.body_as_CameraImage() != nullptr &&
+        !wire::save_png(*msg.body_as_CameraImage(), p.png, save_error)) {
+      return;
+    }
     std::string line = p.json ? to_json(msg) : summary(msg);
     printf("%s\n", line.c_str());
     fflush(stdout);
     ++printed;
   });
   wire::Delivery delivery = p.pull ? wire::Delivery::Pull : wire::Delivery::Push;
-  if (!c.open(addr, wire::Access::Read, delivery)) return fail(c.error());
+  const auto compression = save ? wire::ImageCompression::Png : wire::ImageCompression::None;
+  if (!c.open(addr, wire::Access::Read, delivery, compression)) return fail(c.error());
   signal(SIGINT, on_interrupt);
   signal(SIGTERM, on_interrupt);
   bool was_connected = true;
-  while (!g_interrupted && (p.count < 0 || printed < p.count)) {
+  while (!g_interrupted && (p.count < 0 || printed < p.count) && save_error.empty()) {
     if (p.pull && c.connected()) {
       c.pull(addr);
       c.spin_for(100);
@@ -90,6 +110,7 @@ int cmd_echo(const std::vector<std::string>& args) {
       was_connected = c.connected();
     }
   }
+  if (!save_error.empty()) return fail(save_error);
   return 0;
 }
 

@@ -113,7 +113,7 @@ void Client::on_up() {
   // waiting (a Nack shows up in error()).
   for (const Opened& o : opened_) {
     auto& ob = control_writer_.start();
-    auto open = wire::CreateOpen(ob, o.access, o.delivery);
+    auto open = wire::CreateOpen(ob, o.access, o.delivery, o.compression);
     queue(control_writer_.finish(wire::make_header(o.addr, wire::Kind::Open, 0, next_seq(), monotonic_us()),
                                  wire::Body::Open, open.Union()));
   }
@@ -326,17 +326,19 @@ bool Client::resolve(std::string_view spec, wire::Address& out, int timeout_ms) 
   return true;
 }
 
-bool Client::open(const wire::Address& addr, wire::Access access, wire::Delivery delivery, int timeout_ms) {
+bool Client::open(const wire::Address& addr, wire::Access access, wire::Delivery delivery,
+                  wire::ImageCompression compression, int timeout_ms) {
   auto it = std::find_if(opened_.begin(), opened_.end(), [&](const Opened& o) { return o.addr == addr; });
   if (it == opened_.end()) {
-    opened_.push_back({addr, access, delivery});
+    opened_.push_back({addr, access, delivery, compression});
   } else {
     it->access = access;
     it->delivery = delivery;
+    it->compression = compression;
   }
   uint32_t seq = next_seq();
   auto& b = writer_.start();
-  auto body = wire::CreateOpen(b, access, delivery);
+  auto body = wire::CreateOpen(b, access, delivery, compression);
   if (!send_simple(addr, wire::Kind::Open, seq, wire::Body::Open, body.Union())) {
     error_ = "not connected to " + host_;
     return false;

@@ -113,8 +113,11 @@ class Client {
   bool resolve(std::string_view spec, wire::Address& out, int timeout_ms = 2000);
   /// Opens a device and waits for the Ack. The device is remembered and
   /// opened again after every reconnect, whether this call succeeded or not.
+  /// `compression`: how a camera should pack its images for this client
+  /// (one that cannot sends raw rows; each image says how it is packed).
   bool open(const wire::Address& addr, wire::Access access = wire::Access::All,
-            wire::Delivery delivery = wire::Delivery::Push, int timeout_ms = 2000);
+            wire::Delivery delivery = wire::Delivery::Push,
+            wire::ImageCompression compression = wire::ImageCompression::None, int timeout_ms = 2000);
   bool close(const wire::Address& addr, int timeout_ms = 2000);
   /// Asks for the device's latest data; it reaches the handlers and proxies
   /// before this returns true.
@@ -167,6 +170,7 @@ class Client {
     wire::Address addr;
     wire::Access access;
     wire::Delivery delivery;
+    wire::ImageCompression compression;
   };
 
   wire::LinkState state() const { return link_.connection().state(); }

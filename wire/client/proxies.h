@@ -159,7 +159,10 @@ struct CameraSettings {
 
 class CameraProxy final : public Proxy {
  public:
-  explicit CameraProxy(Client& client, uint16_t index = 0, uint16_t robot = 0);
+  /// `compression`: how the camera should pack images (Png: PNG files, as
+  /// image().compression then says; a camera that cannot sends raw rows).
+  explicit CameraProxy(Client& client, uint16_t index = 0, uint16_t robot = 0,
+                       wire::ImageCompression compression = wire::ImageCompression::None);
   const Image& image() const { return image_; }
   /// Depth images: the distance at pixel (u, v) along its ray, m; infinity
   /// where nothing is in range. NaN when the image is not a depth image or

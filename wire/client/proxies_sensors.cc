@@ -83,9 +83,9 @@ void BlobfinderProxy::update(const wire::Message& msg) {
   height_ = s->height();
 }
 
-CameraProxy::CameraProxy(Client& client, uint16_t index, uint16_t robot)
+CameraProxy::CameraProxy(Client& client, uint16_t index, uint16_t robot, wire::ImageCompression compression)
     : Proxy(client, address_of(Interface::Camera, index, robot)) {
-  attach();
+  attach(wire::Access::All, wire::Delivery::Push, compression);
 }
 
 void CameraProxy::update(const wire::Message& msg) {

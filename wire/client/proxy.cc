@@ -4,9 +4,9 @@ namespace troupe::client {
 
 Proxy::Proxy(Client& client, const wire::Address& addr) : client_(&client), addr_(addr) {}
 
-void Proxy::attach(wire::Access access, wire::Delivery delivery) {
+void Proxy::attach(wire::Access access, wire::Delivery delivery, wire::ImageCompression compression) {
   client_->add_proxy(this);
-  open_ = client_->open(addr_, access, delivery);
+  open_ = client_->open(addr_, access, delivery, compression);
 }
 
 Proxy::~Proxy() {

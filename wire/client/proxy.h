@@ -40,7 +40,8 @@ class Proxy {
   /// Registers with the client and opens the device. Concrete proxies (all
   /// final) call it last in their constructor: data may arrive during the
   /// Open and must find the proxy fully built.
-  void attach(wire::Access access = wire::Access::All, wire::Delivery delivery = wire::Delivery::Push);
+  void attach(wire::Access access = wire::Access::All, wire::Delivery delivery = wire::Delivery::Push,
+              wire::ImageCompression compression = wire::ImageCompression::None);
   /// Decodes a Data message for this device (already verified).
   virtual void update(const wire::Message& msg) = 0;
   /// Sends a request for this device with the body begun in client().begin().

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "wire/png.h"
 #include "wire/writer.h"
 
 namespace troupe::wire::sizes {
@@ -149,7 +150,41 @@ std::vector<Row> rows() {
                           }),
                    true});
   }
+  // A PNG image (Open's compression = Png) against Player's raw bytes
+  // (Player compresses only as JPEG, lossy): a flat-shaded 320x240 scene as
+  // the simulator renders one (sky, a wall, the floor, two boxes), encoded
+  // by wire/png.h.
+  const std::vector<uint8_t> scene = flat_scene_320x240();
+  std::vector<uint8_t> png;
+  std::string why;
+  encode_png({320, 240, PixelFormat::Rgb8, 320 * 3, scene}, png, why);
+  out.push_back({"camera", "320x240 RGB8 as PNG (flat-shaded scene)",
+                 kPlayerHeader + 24 + 4 + 4 + scene.size(),
+                 "Player's raw 320x240 RGB8 (it has no PNG); Troupe: the " + n(png.size()) + "-byte PNG file",
+                 framed(Interface::Camera, Body::CameraImage,
+                        [&](auto& b) {
+                          return CreateCameraImage(b, 320, 240, PixelFormat::Rgb8, 0, ImageCompression::Png,
+                                                   b.CreateVector(png));
+                        }),
+                 true});
   return out;
+}
+
+std::vector<uint8_t> flat_scene_320x240() {
+  std::vector<uint8_t> scene(320 * 240 * 3);
+  for (size_t y = 0; y < 240; ++y) {
+    for (size_t x = 0; x < 320; ++x) {
+      const bool red_box = x >= 60 && x < 120 && y >= 100 && y < 170;
+      const bool green_box = x >= 200 && x < 230 && y >= 60 && y < 150;
+      const uint32_t rgb = red_box     ? 0xff0000
+                           : green_box ? 0x00ff00
+                           : y < 80    ? 0xcfe3ff
+                           : y < 120   ? 0x666666
+                                       : 0xb4b4a0;
+      for (size_t k = 0; k < 3; ++k) scene[3 * (y * 320 + x) + k] = uint8_t(rgb >> (16 - 8 * k));
+    }
+  }
+  return scene;
 }
 
 }  // namespace troupe::wire::sizes

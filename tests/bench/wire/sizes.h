@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,5 +26,10 @@ struct Row {
 };
 
 std::vector<Row> rows();
+
+/// A flat-shaded 320x240 Rgb8 scene as the simulator renders one (sky, a
+/// wall, the floor, two boxes), rows of 960 bytes: the PNG row's image and
+/// png_bench's.
+std::vector<uint8_t> flat_scene_320x240();
 
 }  // namespace troupe::wire::sizes

@@ -20,6 +20,7 @@ imported only by a client given an identity, so a plain client runs without it.
     client = troupe.Client("robot7.local", identity="laptop", node_key="robot7.pub")
 """
 
+from .camera import CameraProxy, CameraSettings, Image, encode_png, save_png
 from .address import (DEFAULT_PORT, Address, DeviceSpec, format_address, interface_from_name, interface_name,
                       parse_device, parse_host, robot_number)
 from .client import Client, DeviceEntry, Reply
@@ -35,9 +36,9 @@ from .verify import Limits, Verifier, VerifyError
 
 __all__ = [
     "DEFAULT_PORT", "PROTOCOL_VERSION", "ActuatorProxy", "Address", "Blob", "BlobfinderProxy", "BumperProxy",
-    "Client", "Detection", "DeviceEntry", "DeviceSpec", "FiducialProxy", "FrameReader", "GridMap", "Header",
-    "Hypothesis", "ImuProxy", "KeyFileError", "Limits", "LocalizeProxy", "MapProxy", "Message", "MessageWriter",
+    "CameraProxy", "CameraSettings", "Client", "Detection", "DeviceEntry", "DeviceSpec", "FiducialProxy", "FrameReader", "GridMap", "Header",
+    "Hypothesis", "Image", "ImuProxy", "KeyFileError", "Limits", "LocalizeProxy", "MapProxy", "Message", "MessageWriter",
     "Pose2", "Pose3", "Position2dProxy", "PowerProxy", "Proxy", "RangerProxy", "Reply", "SimulationProxy", "Vec3",
-    "Verifier", "VerifyError", "decode", "format_address", "interface_from_name", "interface_name", "kind_name",
-    "now_us", "parse_device", "parse_host", "robot_number",
+    "Verifier", "VerifyError", "decode", "encode_png", "format_address", "interface_from_name", "interface_name", "kind_name",
+    "now_us", "parse_device", "parse_host", "robot_number", "save_png",
 ]

@@ -203,7 +203,7 @@ class Client:
         self._ping_seq = 0        # the keep-alive TimeSync
         self._ping_sent = 0.0     # 0: none outstanding
         self._time_sync_seq = 0
-        self._opened: dict[Address, tuple[int, int]] = {}
+        self._opened: dict[Address, tuple[int, int, int]] = {}
         self._proxies: list[weakref.ref] = []
         self._handlers: dict[int, Callable[[Message], None]] = {}
         self._next_handler = 1
@@ -307,13 +307,15 @@ class Client:
         return Address(robot, parsed.iface, parsed.index)
 
     def open(self, addr: Address, access: int = Access.All, delivery: int = Delivery.Push,
-             timeout: float = 2.0) -> bool:
+             timeout: float = 2.0, compression: int = 0) -> bool:
         """Opens a device and waits for the Ack. The device is remembered and
-        opened again after every reconnect, whether this call succeeded or not."""
-        self._opened[addr] = (access, delivery)
+        opened again after every reconnect, whether this call succeeded or not.
+        `compression` (an ImageCompression value): how a camera should pack its
+        images for this client (one that cannot sends raw rows)."""
+        self._opened[addr] = (access, delivery, compression)
         seq = self._next_seq()
         b = self._writer.start()
-        body = self._open_body(b, access, delivery)
+        body = self._open_body(b, access, delivery, compression)
         if not self._send(addr, Kind.Open, seq, Body.Open, body):
             return False
         return self._wait_reply(seq, timeout).ok
@@ -568,10 +570,11 @@ class Client:
         _ts.TimeSyncAddClientSendUs(b, now_us())
         return _ts.TimeSyncEnd(b)
 
-    def _open_body(self, b, access: int, delivery: int) -> int:
+    def _open_body(self, b, access: int, delivery: int, compression: int) -> int:
         _open.OpenStart(b)
         _open.OpenAddAccess(b, access)
         _open.OpenAddDelivery(b, delivery)
+        _open.OpenAddCompression(b, compression)
         return _open.OpenEnd(b)
 
     def _read_keys(self, identity: str | None, node_key: str | None) -> None:
@@ -623,10 +626,10 @@ class Client:
         """The node's Hello arrived. Devices opened before a reconnect are
         opened again; their Acks need no waiting (a Nack shows up in error)."""
         w = MessageWriter()
-        for addr, (access, delivery) in self._opened.items():
+        for addr, (access, delivery, compression) in self._opened.items():
             b = w.start()
             self._queue(w.finish(addr, Kind.Open, 0, self._next_seq(), None, Body.Open,
-                                 self._open_body(b, access, delivery)))
+                                 self._open_body(b, access, delivery, compression)))
 
     def _drop(self, why: str) -> None:
         if self._sock is not None:

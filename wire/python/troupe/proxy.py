@@ -104,12 +104,12 @@ class Proxy:
         """Stops updating this proxy (the device stays open on the node)."""
         self.client._remove_proxy(self)
 
-    def _attach(self, access: int = Access.All, delivery: int = Delivery.Push) -> None:
+    def _attach(self, access: int = Access.All, delivery: int = Delivery.Push, compression: int = 0) -> None:
         """Registers with the client and opens the device. Subclasses call it
         last in __init__: data may arrive during the Open and must find the
         proxy fully built."""
         self.client._add_proxy(self)
-        self.is_open = self.client.open(self.address, access, delivery)
+        self.is_open = self.client.open(self.address, access, delivery, compression=compression)
 
     def _receive(self, msg: Message) -> None:
         h = msg.header

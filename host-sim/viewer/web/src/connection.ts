@@ -194,11 +194,13 @@ export class Connection {
     return out;
   }
 
-  /// Opens a device for reading (Data pushed) or for everything.
-  async open(addr: Address, access: W.Access = W.Access.Read): Promise<void> {
+  /// Opens a device for reading (Data pushed) or for everything; a camera
+  /// packs its images as `compression` asks (the browser decodes PNG).
+  async open(addr: Address, access: W.Access = W.Access.Read,
+             compression: W.ImageCompression = W.ImageCompression.None): Promise<void> {
     const seq = this.seq++;
     const reply = this.expect(seq);
-    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push, W.ImageCompression.None)]);
+    this.send(W.Kind.Open, addr, 0, seq, (b) => [W.Body.Open, W.Open.createOpen(b, access, W.Delivery.Push, compression)]);
     await reply;
   }
 

@@ -77,6 +77,14 @@ export interface BlobImage {
   list: BlobView[];
 }
 
+/// A camera's latest image, ready to draw at its size: decoded by the
+/// browser from PNG, or built from raw Rgb8/Mono8 rows.
+export interface CameraFrame {
+  width: number; // px
+  height: number; // px
+  image: ImageBitmap | ImageData;
+}
+
 export interface MapImage {
   width: number; // cells
   height: number; // cells
@@ -122,6 +130,9 @@ export class Scene {
   values = new Map<string, string>();
   rangers = new Map<string, RangerView>();
   blobs = new Map<string, BlobImage>();
+  cameras = new Map<string, CameraFrame>();
+  /// Images received per camera: a PNG decoded late does not replace a newer image.
+  private cameraImages = new Map<string, number>();
   fiducials = new Map<string, { id: number; x: number; y: number; a: number; kind: W.FiducialKind }[]>();
   field: Field | null = null;
   game: Game | null = null;
@@ -143,6 +154,7 @@ export class Scene {
     this.values.clear();
     this.rangers.clear();
     this.blobs.clear();
+    this.cameras.clear();
     this.fiducials.clear();
     this.simTime = 0;
     this.steps = 0;
@@ -306,12 +318,52 @@ export class Scene {
         this.values.set(key, `${fmt(s.percent() ?? NaN)} %, ${fmt(s.joules() ?? NaN)} J, ${fmt(s.watts() ?? NaN)} W`);
         return;
       }
+      case W.Body.CameraImage: {
+        this.onImage(key, msg.body(new W.CameraImage()) as W.CameraImage);
+        return;
+      }
       case W.Body.BumperState: {
         const s = msg.body(new W.BumperState()) as W.BumperState;
         this.values.set(key, `bumpers ${s.pressed().toString(2)}`);
         return;
       }
     }
+  }
+
+  private onImage(key: string, s: W.CameraImage): void {
+    const width = s.width(), height = s.height(), format = s.format();
+    const bytes = s.dataArray() ?? new Uint8Array();
+    this.values.set(key, `${width}x${height} ${W.PixelFormat[format]}, ${W.ImageCompression[s.compression()]}, ` +
+                         `${bytes.length} bytes`);
+    const n = (this.cameraImages.get(key) ?? 0) + 1;
+    this.cameraImages.set(key, n);
+    if (s.compression() === W.ImageCompression.Png) {
+      // No colour management: the canvas gets the camera's own values.
+      createImageBitmap(new Blob([bytes.slice()], { type: 'image/png' }), { colorSpaceConversion: 'none' })
+        .then((image) => {
+          if (this.cameraImages.get(key) === n) this.cameras.set(key, { width, height, image });
+        })
+        .catch((e) => this.values.set(key, `image not decoded: ${e.message ?? e}`));
+      return;
+    }
+    const stride = s.stride();
+    const bpp = format === W.PixelFormat.Rgb8 ? 3 : format === W.PixelFormat.Mono8 ? 1 : 0;
+    if (bpp === 0 || bytes.length < stride * (height - 1) + width * bpp) {
+      this.cameras.delete(key); // depth: numbers in the panel, no picture
+      return;
+    }
+    const image = new ImageData(width, height);
+    const green = bpp === 3 ? 1 : 0, blue = bpp === 3 ? 2 : 0; // grey: the one byte three times
+    for (let y = 0; y < height; ++y) {
+      for (let x = 0; x < width; ++x) {
+        const at = y * stride + x * bpp, to = 4 * (y * width + x);
+        image.data[to] = bytes[at];
+        image.data[to + 1] = bytes[at + green];
+        image.data[to + 2] = bytes[at + blue];
+        image.data[to + 3] = 255;
+      }
+    }
+    this.cameras.set(key, { width, height, image });
   }
 
   /// True when robots are placed by their odometry (a node), not by
