@@ -57,13 +57,11 @@ int main(int argc, char** argv) {
   if (host.empty()) return usage_error("missing HOST");
   if (options.devices.empty()) return usage_error("missing ADDR: which devices to record");
   if (options.output.empty()) return usage_error("missing -o FILE");
-  if (compression == "png") {
-    // Cameras compress only with the PNG encoder (wire/png), which this
-    // build does not have yet; asking for it would record raw images under
-    // a name that promises otherwise.
-    return usage_error("--image-compression png: this build has no PNG encoder yet; use none (raw images)");
-  }
-  options.image_compression = troupe::wire::ImageCompression::None;
+  // troupe-sim's cameras encode PNG themselves; a camera that packs nothing
+  // (a board's v4l2 driver) sends raw rows whatever was asked, and those are
+  // recorded as they came.
+  options.image_compression =
+      compression == "png" ? troupe::wire::ImageCompression::Png : troupe::wire::ImageCompression::None;
   options.duration_s = duration_s;
   options.timeout_ms = int(timeout_s * 1000);
   std::string error;
