@@ -110,44 +110,49 @@ class CameraRecordReplay : public ::testing::Test {
     return seen;
   }
 
+  /// The live side: troupe-sim on the camera world, paused (so a client
+  /// steps it image by image), and a client that found its camera.
+  void SetUp() override {
+    ASSERT_TRUE(sim_.wait_listening(port_)) << sim_.err();
+    ASSERT_TRUE(connect_camera(live_, cam_)) << live_.error();
+  }
+
   const std::string dir_ = make_temp_dir("troupe-camera-record-");
+  const uint16_t port_ = free_port();
+  Process sim_{{bin("bin/troupe-sim"), kCameraWorld, "--port", std::to_string(port_), "--paused"}};
+  client::Client live_{"127.0.0.1", port_};
+  wire::Address cam_;
 };
 
 TEST_F(CameraRecordReplay, PlayServesTheImagesAClientReadLiveAndTheCamerasAnswers) {
-  uint16_t port = free_port();
-  Process sim({bin("bin/troupe-sim"), kCameraWorld, "--port", std::to_string(port), "--paused"});
-  ASSERT_TRUE(sim.wait_listening(port)) << sim.err();
-  client::Client live("127.0.0.1", port);
-  wire::Address cam;
-  ASSERT_TRUE(connect_camera(live, cam)) << live.error();
-  const std::vector<float> live_answers = camera_answers(live, cam);
+  const std::vector<float> live_answers = camera_answers(live_, cam_);
   ASSERT_EQ(live_answers.size(), 14u);
 
   std::string log = file("camera.trl");
-  Process rec({bin("bin/troupe"), "record", "127.0.0.1:" + std::to_string(port), "cam/camera:0", "-o", log,
+  Process rec({bin("bin/troupe"), "record", "127.0.0.1:" + std::to_string(port_), "cam/camera:0", "-o", log,
                "--count", std::to_string(kImages)});
   ASSERT_TRUE(recording(rec)) << rec.err();
 
   std::vector<Seen> seen_live;
-  live.add_data_handler([&](const wire::Message& msg) {
+  live_.add_data_handler([&](const wire::Message& msg) {
     if (msg.body_as_CameraImage() != nullptr) seen_live.push_back(seen_of(msg));
   });
-  ASSERT_TRUE(live.open(cam, wire::Access::Read)) << live.error();
-  client::SimulationProxy step(live);
+  ASSERT_TRUE(live_.open(cam_, wire::Access::Read)) << live_.error();
+  client::SimulationProxy step(live_);
   // The robot turns, so every image differs from the one before.
-  ASSERT_EQ(run_program({bin("bin/troupe"), "cmd", "127.0.0.1:" + std::to_string(port), "cam/position2d:0",
+  ASSERT_EQ(run_program({bin("bin/troupe"), "cmd", "127.0.0.1:" + std::to_string(port_), "cam/position2d:0",
                          "vel", "0", "0", "1.0"})
                 .rc,
             0);
   // One image per step; the recorder stops after kImages of them.
   for (int i = 0; i < 3 * kImages && rec.running(); ++i) {
-    ASSERT_TRUE(step.step(1)) << live.error();
-    ASSERT_TRUE(live.sync()) << live.error();
+    ASSERT_TRUE(step.step(1)) << live_.error();
+    ASSERT_TRUE(live_.sync()) << live_.error();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   ASSERT_EQ(rec.wait(), 0) << rec.err();
   EXPECT_NE(rec.err().find("recorded 4 frames"), std::string::npos) << rec.err();
-  EXPECT_EQ(sim.stop(), 0);
+  EXPECT_EQ(sim_.stop(), 0);
   ASSERT_GE(seen_live.size(), size_t(kImages));
   seen_live.resize(kImages);
   EXPECT_EQ(seen_live[0].width, 160u);
@@ -219,36 +224,29 @@ TEST_F(CameraRecordReplay, PlayServesTheImagesAClientReadLiveAndTheCamerasAnswer
 // encodes each image once for every PNG reader, so the recording holds the
 // very files a live PNG reader got, and play serves them unchanged.
 TEST_F(CameraRecordReplay, PngImagesAreRecordedAsTheCameraPackedThem) {
-  uint16_t port = free_port();
-  Process sim({bin("bin/troupe-sim"), kCameraWorld, "--port", std::to_string(port), "--paused"});
-  ASSERT_TRUE(sim.wait_listening(port)) << sim.err();
-  client::Client live("127.0.0.1", port);
-  wire::Address cam;
-  ASSERT_TRUE(connect_camera(live, cam)) << live.error();
-
   std::string log = file("png.trl");
-  Process rec({bin("bin/troupe"), "record", "127.0.0.1:" + std::to_string(port), "cam/camera:0", "-o", log,
+  Process rec({bin("bin/troupe"), "record", "127.0.0.1:" + std::to_string(port_), "cam/camera:0", "-o", log,
                "--count", "2", "--image-compression", "png"});
   ASSERT_TRUE(recording(rec)) << rec.err();
 
   std::vector<Seen> seen_live;
   std::vector<wire::ImageCompression> packing;
-  live.add_data_handler([&](const wire::Message& msg) {
+  live_.add_data_handler([&](const wire::Message& msg) {
     if (const wire::CameraImage* im = msg.body_as_CameraImage()) {
       seen_live.push_back(seen_of(msg));
       packing.push_back(im->compression());
     }
   });
-  ASSERT_TRUE(live.open(cam, wire::Access::Read, wire::Delivery::Push, wire::ImageCompression::Png))
-      << live.error();
-  client::SimulationProxy step(live);
+  ASSERT_TRUE(live_.open(cam_, wire::Access::Read, wire::Delivery::Push, wire::ImageCompression::Png))
+      << live_.error();
+  client::SimulationProxy step(live_);
   for (int i = 0; i < 6 && rec.running(); ++i) {
-    ASSERT_TRUE(step.step(1)) << live.error();
-    ASSERT_TRUE(live.sync()) << live.error();
+    ASSERT_TRUE(step.step(1)) << live_.error();
+    ASSERT_TRUE(live_.sync()) << live_.error();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   ASSERT_EQ(rec.wait(), 0) << rec.err();
-  EXPECT_EQ(sim.stop(), 0);
+  EXPECT_EQ(sim_.stop(), 0);
   ASSERT_GE(seen_live.size(), 2u);
   seen_live.resize(2);
   EXPECT_EQ(packing[0], wire::ImageCompression::Png);
