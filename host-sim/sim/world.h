@@ -12,6 +12,7 @@
 // every run, whatever order sensors are read or wanted in.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -258,6 +259,18 @@ class World {
   /// which is then carried) or opens (dropping it where it is) the paddles
   /// at the next step.
   void set_gripper(uint32_t index, bool closed);
+
+  // ---- Controller memory ------------------------------------------------------
+
+  /// Gives the robot `bytes` of controller memory, all zero (what a
+  /// controller remembers between steps: host-sim/sim/controller.h). It is
+  /// the robot's, like its pose: reset() zeroes it, and whoever moves the
+  /// robot elsewhere moves these bytes with it.
+  void set_controller_memory_size(RobotId id, size_t bytes);
+  /// The robot's controller memory (empty when none was given), aligned
+  /// for any scalar type.
+  std::span<std::byte> controller_memory(RobotId id);
+  std::span<const std::byte> controller_memory(RobotId id) const;
 
   // ---- Inspection ------------------------------------------------------------
 
