@@ -17,7 +17,7 @@ struct Token {
 
 class Lexer {
  public:
-  Lexer(const std::string& text) : text_(text) {}
+  Lexer(const std::string& text, int first_line = 1) : text_(text), line_(first_line) {}
 
   bool next(Token& t, std::string& error) {
     while (pos_ < text_.size()) {
@@ -74,13 +74,13 @@ class Lexer {
 
   const std::string& text_;
   size_t pos_ = 0;
-  int line_ = 1;
+  int line_;
 };
 
 // Commands: words until the end of the line or `;`; no blocks.
-bool parse_lines(const std::string& text, const std::string& name, std::vector<Statement>& out,
-                 std::string& error) {
-  Lexer lex(text);
+bool parse_lines(const std::string& text, const std::string& name, int first_line,
+                 std::vector<Statement>& out, std::string& error) {
+  Lexer lex(text, first_line);
   Token t;
   Statement s;
   auto flush = [&] {
@@ -143,7 +143,8 @@ class StageReader {
     for (const world::Property& p : root.properties) {
       p.used = true;
       // The world's statement is where its first property was written.
-      if (physics.line == 0 && p.name != "unit_angle" && p.name != "plugin_path") physics = at("world", p.loc);
+      if (physics.line == 0 && p.name != "unit_angle" && p.name != "plugin_path")
+        physics = at("world", p.loc);
       if (p.name == "unit_angle") {
         if (p.values.size() != 1 || (p.values[0].text != "degrees" && p.values[0].text != "radians"))
           return fail(p.loc, "unit_angle: \"degrees\" or \"radians\"");
@@ -179,7 +180,8 @@ class StageReader {
         if (!robot(e, st)) return false;
         out.push_back(std::move(st));
       } else {
-        return fail(e.loc, "'" + e.written_type + "' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
+        return fail(e.loc, "'" + e.written_type +
+                               "' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
       }
     }
     return true;
@@ -215,7 +217,8 @@ class StageReader {
   }
 
   // `pose [x y z a]` as x, y (and a, rad) options.
-  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading, const char* arg_key = nullptr) {
+  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading,
+             const char* arg_key = nullptr) {
     st = plain(e, std::move(keyword), arg_key);
     for (auto it = st.options.begin(); it != st.options.end(); ++it) {
       if (it->first != "pose") continue;
@@ -223,7 +226,8 @@ class StageReader {
       double v[4];
       if (p->values.size() != 4) return fail(p->loc, "pose: expected [x y z a]");
       for (int i = 0; i < 4; ++i) {
-        if (!Options::parse_number(p->values[size_t(i)].text, v[i])) return fail(p->loc, "pose: expected numbers");
+        if (!Options::parse_number(p->values[size_t(i)].text, v[i]))
+          return fail(p->loc, "pose: expected numbers");
       }
       st.options.erase(it);
       st.options.emplace_back("x", p->values[0].text);
@@ -278,7 +282,8 @@ class StageReader {
       } else if (c.type == "player") {
         st.children.push_back(plain(c, "player", "plugin"));
       } else {
-        return fail(c.loc, "'" + c.written_type + "' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
+        return fail(c.loc, "'" + c.written_type +
+                               "' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
       }
     }
     return true;
@@ -331,8 +336,8 @@ bool parse_stage_text(const std::string& text, const std::string& file, std::vec
 }
 
 bool parse_commands(const std::string& text, const std::string& name, std::vector<Statement>& out,
-                    std::string& error) {
-  return parse_lines(text, name, out, error);
+                    std::string& error, int first_line) {
+  return parse_lines(text, name, first_line, out, error);
 }
 
 }  // namespace troupe::robocup

@@ -52,6 +52,7 @@ void ServeLoop::step(uint32_t n) {
   for (uint32_t i = 0; i < n && !stop_; ++i) {
     sim_.step();
     server_->publish();
+    if (options_.after_step) options_.after_step();
   }
 }
 
@@ -61,7 +62,8 @@ void ServeLoop::run() {
   parts.serve = [this](int64_t wait_us) { node_->poll(wait_us); };
   parts.step = [this] { step(1); };
   parts.done = [this] {
-    return (options_.seconds > 0 && sim_.time_s() + 1e-9 >= options_.seconds) || sim_.phase() == GamePhase::Stopped;
+    return (options_.seconds > 0 && sim_.time_s() + 1e-9 >= options_.seconds) ||
+           sim_.phase() == GamePhase::Stopped;
   };
   sim::run_paced(control_, stop_, parts, rate_);
 }
