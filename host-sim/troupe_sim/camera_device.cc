@@ -22,8 +22,7 @@ void SimServer::camera_request(Device& d, const wire::Message& req, RequestToken
     std::string why;
     // An image that could never be sent is refused here, with the reason,
     // rather than configured and then never delivered.
-    if (!wire::image_fits(uint32_t(w), uint32_t(h), c->format(), node_->options().limits.max_frame_bytes,
-                          why)) {
+    if (!wire::image_fits(uint32_t(w), uint32_t(h), c->format(), node_->options().limits.max_frame_bytes, why)) {
       return node_->nack(token, ErrorCode::BadArgument, why.c_str());
     }
     if (!world_.set_camera_size(d.index, w, h)) {

@@ -132,8 +132,7 @@ size_t P2osTcp::clients() const {
 
 std::string P2osTcp::info() const {
   std::string text;
-  for (const Robot& r : robots_)
-    text += r.name + " p2os-tcp " + listen_ + ":" + std::to_string(r.port) + "\n";
+  for (const Robot& r : robots_) text += r.name + " p2os-tcp " + listen_ + ":" + std::to_string(r.port) + "\n";
   return text;
 }
 

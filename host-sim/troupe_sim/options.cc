@@ -24,15 +24,6 @@ std::vector<std::string> with_optional_ports(int argc, const char* const* argv, 
   return args;
 }
 
-}  // namespace
-
-bool started_as_robocup_alias(const char* argv0) {
-  const std::string name = argv0 ? argv0 : "";
-  return name.substr(name.rfind('/') + 1) == kRobocupAlias;
-}
-
-namespace {
-
 const char* const kExitText =
     "exit status: 0 when the run reached its quit time (also when a client's Step\n"
     "request got there; the log says so), the referee's time was up, the console's\n"
@@ -75,6 +66,11 @@ cli::Help alias_help() {
 }
 
 }  // namespace
+
+bool started_as_robocup_alias(const char* argv0) {
+  const std::string name = argv0 ? argv0 : "";
+  return name.substr(name.rfind('/') + 1) == kRobocupAlias;
+}
 
 int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   const bool alias = argc > 0 && started_as_robocup_alias(argv[0]);
@@ -200,7 +196,10 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   }
   // Why nothing is served, for the messages below: the console runs the
   // match itself, and the alias is --no-serve.
-  const char* unserved = no_serve ? "--no-serve" : console ? console : alias ? kRobocupAlias : nullptr;
+  const char* unserved = no_serve  ? "--no-serve"
+                         : console ? console
+                         : alias   ? "troupe-robocup, which is --no-serve"
+                                   : nullptr;
   out.seed_given = seed->count() > 0;
   out.serve = unserved == nullptr;
   out.view_asked = view->count() > 0 || view_listen->count() > 0;

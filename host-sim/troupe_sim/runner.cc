@@ -31,14 +31,12 @@ uint64_t sim_clock_us(void* ctx) {
 bool starts_paused(const SimOptions& options, const WorldDesc& d) {
   if (!d.paused) return false;
   if (!options.serve) {
-    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs",
-             d.paused_at.c_str());
+    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs", d.paused_at.c_str());
     return false;
   }
   const std::string port = options.port == 0 ? "PORT" : std::to_string(options.port);
-  log_info(
-      "%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
-      d.paused_at.c_str(), options.listen.c_str(), port.c_str());
+  log_info("%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
+           d.paused_at.c_str(), options.listen.c_str(), port.c_str());
   return true;
 }
 

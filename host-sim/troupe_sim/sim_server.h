@@ -64,9 +64,9 @@ class SimServer final : public Driver, private SimulationModels {
     bool motors_on = true;  // position2d only
     // camera only: what its images carry (SetConfig chooses).
     wire::PixelFormat format = wire::PixelFormat::Rgb8;
-    float rate = 0;               // images per simulated second; 0: every step
-    double last_image = -1;       // simulated time of the last image sent, s
-    bool refused_logged = false;  // the too-large image was logged
+    float rate = 0;                      // images per simulated second; 0: every step
+    double last_image = -1;              // simulated time of the last image sent, s
+    bool refused_logged = false;         // the too-large image was logged
   };
 
   void add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface, uint16_t local);

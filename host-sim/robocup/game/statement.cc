@@ -143,8 +143,7 @@ class StageReader {
     for (const world::Property& p : root.properties) {
       p.used = true;
       // The world's statement is where its first property was written.
-      if (physics.line == 0 && p.name != "unit_angle" && p.name != "plugin_path")
-        physics = at("world", p.loc);
+      if (physics.line == 0 && p.name != "unit_angle" && p.name != "plugin_path") physics = at("world", p.loc);
       if (p.name == "unit_angle") {
         if (p.values.size() != 1 || (p.values[0].text != "degrees" && p.values[0].text != "radians"))
           return fail(p.loc, "unit_angle: \"degrees\" or \"radians\"");
@@ -180,8 +179,7 @@ class StageReader {
         if (!robot(e, st)) return false;
         out.push_back(std::move(st));
       } else {
-        return fail(e.loc, "'" + e.written_type +
-                               "' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
+        return fail(e.loc, "'" + e.written_type + "' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
       }
     }
     return true;
@@ -217,8 +215,7 @@ class StageReader {
   }
 
   // `pose [x y z a]` as x, y (and a, rad) options.
-  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading,
-             const char* arg_key = nullptr) {
+  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading, const char* arg_key = nullptr) {
     st = plain(e, std::move(keyword), arg_key);
     for (auto it = st.options.begin(); it != st.options.end(); ++it) {
       if (it->first != "pose") continue;
@@ -226,8 +223,7 @@ class StageReader {
       double v[4];
       if (p->values.size() != 4) return fail(p->loc, "pose: expected [x y z a]");
       for (int i = 0; i < 4; ++i) {
-        if (!Options::parse_number(p->values[size_t(i)].text, v[i]))
-          return fail(p->loc, "pose: expected numbers");
+        if (!Options::parse_number(p->values[size_t(i)].text, v[i])) return fail(p->loc, "pose: expected numbers");
       }
       st.options.erase(it);
       st.options.emplace_back("x", p->values[0].text);
@@ -282,8 +278,7 @@ class StageReader {
       } else if (c.type == "player") {
         st.children.push_back(plain(c, "player", "plugin"));
       } else {
-        return fail(c.loc, "'" + c.written_type +
-                               "' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
+        return fail(c.loc, "'" + c.written_type + "' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
       }
     }
     return true;

@@ -62,8 +62,7 @@ void ServeLoop::run() {
   parts.serve = [this](int64_t wait_us) { node_->poll(wait_us); };
   parts.step = [this] { step(1); };
   parts.done = [this] {
-    return (options_.seconds > 0 && sim_.time_s() + 1e-9 >= options_.seconds) ||
-           sim_.phase() == GamePhase::Stopped;
+    return (options_.seconds > 0 && sim_.time_s() + 1e-9 >= options_.seconds) || sim_.phase() == GamePhase::Stopped;
   };
   sim::run_paced(control_, stop_, parts, rate_);
 }
