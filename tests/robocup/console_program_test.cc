@@ -169,8 +169,8 @@ TEST_P(ConsoleProgram, ExitStatusesFollowOneRule) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SimAndAlias, ConsoleProgram, ::testing::ValuesIn(kPrograms),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           return info.index == 0 ? std::string("troupe_sim") : std::string("troupe_robocup");
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           return param.index == 0 ? std::string("troupe_sim") : std::string("troupe_robocup");
                          });
 
 // The alias is troupe-sim --fast --no-serve: the same match, flat out, with
