@@ -170,7 +170,8 @@ TEST_P(ConsoleProgram, ExitStatusesFollowOneRule) {
 
 INSTANTIATE_TEST_SUITE_P(SimAndAlias, ConsoleProgram, ::testing::ValuesIn(kPrograms),
                          [](const ::testing::TestParamInfo<std::string>& param) {
-                           return param.index == 0 ? std::string("troupe_sim") : std::string("troupe_robocup");
+                           return param.index == 0 ? std::string("troupe_sim")
+                                                   : std::string("troupe_robocup");
                          });
 
 // The alias is troupe-sim --fast --no-serve: the same match, flat out, with
@@ -184,6 +185,11 @@ TEST(RobocupAlias, IsTroupeSimFlatOutAndUnserved) {
   const auto same = testing::run_to_end(
       {kBin + "troupe-sim", kMatch, "--fast", "--no-serve", "--quit-time", "2", "--quiet"}, 120000);
   EXPECT_EQ(same.out.substr(0, same.out.find(" in ")), r.out.substr(0, r.out.find(" in ")));
+  // The CLI runs troupe-robocup from its own folder: the same run.
+  const auto cli =
+      testing::run_to_end({kBin + "troupe", "robocup", kMatch, "--quit-time", "2", "--quiet"}, 120000);
+  EXPECT_EQ(cli.status, 0) << cli.err;
+  EXPECT_EQ(cli.out.substr(0, cli.out.find(" in ")), r.out.substr(0, r.out.find(" in ")));
   const auto paused = testing::run_to_end({alias, kMatch, "--paused"}, 60000);
   EXPECT_EQ(paused.status, 2);
   EXPECT_TRUE(contains(
