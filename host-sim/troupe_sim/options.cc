@@ -141,6 +141,8 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   app->add_flag("--no-ctrl", out.no_ctrl, "run no controllers: every robot waits for clients");
   app->add_flag("--profile", out.profile, "print the time spent in each phase of the step at the end");
 
+  cli::add_log_level(*app);
+
   const std::string robocup = "RoboCup worlds";
   auto* script = app->add_option("--script", out.script,
                                  "run console commands from FILE between cycles (run 10,\n"
@@ -154,7 +156,6 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
   // troupe-robocup's old run length: one rule now, --quit-time.
   std::string seconds;
   auto* old_seconds = app->add_option("--seconds", seconds)->group("");
-  cli::add_log_level(*app);
 
   const std::string sitl = "hardware in the loop (SITL)";
   app->add_option("--emulate", out.emulate,
