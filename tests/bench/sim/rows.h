@@ -20,6 +20,7 @@ struct Summary {
   double baseline_rtf = 0;  // per-cell ray casting, same world, same run
   double stage = 0;         // Stage 4.3's figure for this row: given (the issue's), not measured
   double target = 0;        // the target
+  double load_s = 0;        // wall time to load the world file, s (rows that load one)
 };
 
 /// Each returns false when it cannot run (missing data), after saying why.
@@ -28,5 +29,10 @@ bool row_crowd(const Settings& s, Summary& out);
 bool row_cave(const Settings& s, Summary& out);
 bool row_scale(const Settings& s, Summary& out);
 bool row_rays(const Settings& s, Summary& out);
+bool row_campus(const Settings& s, Summary& out);
+
+/// Writes the campus row's world (campus.world and its bitmap campus.png)
+/// into `dir`; its path, or "" with `err` set.
+std::string write_campus(const std::string& dir, std::string& err);
 
 }  // namespace troupe::bench
