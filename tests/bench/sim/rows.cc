@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host-sim/sim/controller_host.h"
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
 #include "tests/bench/sim/arena.h"
@@ -44,9 +45,16 @@ bool have_shared(const char* row) {
   return false;
 }
 
-std::unique_ptr<World> load(const std::string& path, ControllerHost& host) {
+// Loads a world file as World::load does (seed 1), its static map kept as
+// `storage` says.
+std::unique_ptr<World> load(const std::string& path, ControllerHost& host, sim::MapStorage storage) {
   world::Diagnostics d;
-  auto w = World::load(path, 1, d);
+  sim::WorldDesc desc;
+  std::unique_ptr<World> w;
+  if (sim::load_world_file(path, desc, d)) {
+    desc.map_storage = storage;
+    w = std::make_unique<World>(desc, sim::Random(1));
+  }
   ControllerHost::Options o;
   o.search_path = {TROUPE_PLUGIN_DIR};
   if (!w || !host.load(*w, o, d)) {
@@ -125,7 +133,7 @@ bool row_simple(const Settings& s, Summary& out) {
   if (!have_shared("simple")) return false;
   out = {"simple.world", "2 Pioneers, 180-beam 8 m lasers, wander", 0, 0, 0, 440, 5000};
   ControllerHost host;
-  auto w = load(shared("simple.world"), host);
+  auto w = load(shared("simple.world"), host, s.storage);
   if (!w) return false;
   std::printf("== simple.world: %zu robots, %zu controllers\n", w->robot_count(), host.size());
   run_chunks(*w, host, int(10000 * s.scale), s, out);
@@ -155,7 +163,7 @@ bool row_crowd(const Settings& s, Summary& out) {
   map = {};
   const double t1 = wall_s();
   ControllerHost host;
-  auto w = load(dir.write("crowd.world", text), host);
+  auto w = load(dir.write("crowd.world", text), host, s.storage);
   if (!w) return false;
   out.load_s = wall_s() - t1;
   std::printf("== crowd: %zu robots; map generated in %.1f s, world loaded in %.1f s; engine holds %.1f MB\n",
@@ -202,7 +210,7 @@ bool row_campus(const Settings& s, Summary& out) {
   }
   const double c0 = cpu_s(), t0 = wall_s();
   ControllerHost host;
-  auto w = load(path, host);
+  auto w = load(path, host, s.storage);
   if (!w) return false;
   out.load_s = wall_s() - t0;
   const sim::StaticMap& map = w->map();
@@ -221,7 +229,7 @@ bool row_cave(const Settings& s, Summary& out) {
   out = {"cave 100", "100 Pioneers, 180-beam 8 m laser + 16 sonars, cave", 0, 0, 0, 2, 20};
   Scratch dir;
   ControllerHost host;
-  auto w = load(cave_world(dir, 100), host);
+  auto w = load(cave_world(dir, 100), host, s.storage);
   if (!w) return false;
   want_all_rangers(*w);  // the sonars too, as a client reading them would
   std::printf("== cave: %zu robots\n", w->robot_count());
@@ -252,6 +260,7 @@ bool row_scale(const Settings& s, Summary& out) {
       name.append(std::to_string(i));
       d.robots.push_back(ring_robot(name, poses[i], "wander avoid=0.4"));
     }
+    d.map_storage = s.storage;
     World w(d, sim::Random(1));
     ControllerHost host;
     world::Diagnostics diags;
@@ -288,7 +297,7 @@ bool row_rays(const Settings& s, Summary& out) {
   out = {"rays", "cave, 100 robots present", 0, 0, 0, 0, 0};
   Scratch dir;
   ControllerHost host;
-  auto w = load(cave_world(dir, 100), host);
+  auto w = load(cave_world(dir, 100), host, s.storage);
   if (!w) return false;
   for (int i = 0; i < 20; ++i) {
     host.update(*w);

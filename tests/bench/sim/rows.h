@@ -4,12 +4,15 @@
 
 #include <string>
 
+#include "host-sim/sim/desc.h"
+
 namespace troupe::bench {
 
 struct Settings {
-  int repeats = 5;       // timed chunks per row; medians are reported
-  double scale = 1.0;    // multiplies the steps per chunk (0.1 for a quick look)
-  bool baseline = true;  // also time one chunk with per-cell ray casting
+  int repeats = 5;                                  // timed chunks per row; medians are reported
+  double scale = 1.0;                               // multiplies the steps per chunk (0.1 for a quick look)
+  bool baseline = true;                             // also time one chunk with per-cell ray casting
+  sim::MapStorage storage = sim::MapStorage::Auto;  // how static maps keep their cells
 };
 
 struct Summary {

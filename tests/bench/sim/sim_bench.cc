@@ -15,6 +15,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,14 @@ int main(int argc, char** argv) {
        {"sim_bench --repeats 3", "sim_bench simple crowd --quick", "sim_bench --write-campus /tmp/campus"}});
   app->add_option("ROW", names, "rows to run")
       ->check(CLI::IsMember({"simple", "crowd", "cave", "scale", "rays", "campus"}));
+  const std::map<std::string, troupe::sim::MapStorage> storages = {
+      {"auto", troupe::sim::MapStorage::Auto},
+      {"dense", troupe::sim::MapStorage::Dense},
+      {"sparse", troupe::sim::MapStorage::Sparse}};
+  app->add_option("--map", settings.storage,
+                  "how static maps keep their cells: auto (sparse from 128 Mi cells), dense or sparse")
+      ->transform(CLI::CheckedTransformer(storages, CLI::ignore_case))
+      ->type_name("auto|dense|sparse");
   app->add_option("--write-campus", campus_dir,
                   "write the campus row's world (campus.world, campus.png) into DIR and exit")
       ->type_name("DIR");
