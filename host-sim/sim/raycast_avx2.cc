@@ -240,14 +240,15 @@ void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slo
 
 }  // namespace
 
-void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w, int w,
-                     int h, Vec2 origin, double inv_res, double res, std::span<const RayQuery> rays,
-                     uint8_t mask, float* out) {
-  if (slots) {
-    cast_lanes<true>(codes, coarse, slots, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
-  } else {
-    cast_lanes<false>(codes, coarse, slots, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
-  }
+void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
+                     double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out) {
+  cast_lanes<false>(codes, coarse, nullptr, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
+}
+
+void cast_batch_avx2_sparse(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w,
+                            int w, int h, Vec2 origin, double inv_res, double res,
+                            std::span<const RayQuery> rays, uint8_t mask, float* out) {
+  cast_lanes<true>(codes, coarse, slots, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
 }
 
 }  // namespace troupe::sim::detail

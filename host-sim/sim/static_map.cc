@@ -216,17 +216,15 @@ void StaticMap::prefetch(Vec2 p, double r) const {
   if (!(u - ru >= 0 && v - ru >= 0 && u + ru < w_ && v + ru < h_)) return;  // near the edge: not worth it
   const int bx0 = int(u - ru) >> kTileShift, bx1 = std::min(int(u + ru) >> kTileShift, bx0 + 2);
   const int by0 = int(v - ru) >> kTileShift, by1 = std::min(int(v + ru) >> kTileShift, by0 + 2);
+  // A sparse block's cells are found through its table entry: loading the
+  // entry now would wait for it, so only the entry is fetched.
+  const uint8_t* cells = sparse() ? reinterpret_cast<const uint8_t*>(slots_.data()) : codes_.data();
+  const int shift = sparse() ? 2 : 2 * kTileShift;  // bytes per block: 4 (an entry) or 64 (its cells)
   for (int by = by0; by <= by1; ++by) {
     for (int bx = bx0; bx <= bx1; ++bx) {
       const size_t block = size_t(by) * size_t(blocks_w_) + size_t(bx);
       if (use_coarse_) __builtin_prefetch(&coarse_[block]);
-      // A sparse block's cells are found through its table entry: loading
-      // the entry now would wait for it, so only the entry is fetched.
-      if (sparse()) {
-        __builtin_prefetch(&slots_[block]);
-      } else {
-        __builtin_prefetch(&codes_[block << (2 * kTileShift)]);
-      }
+      __builtin_prefetch(cells + (block << shift));
     }
   }
 }

@@ -60,7 +60,8 @@ class StaticMap {
 
   /// An empty grid covering [lo, hi] (world frame, m) at `resolution` m,
   /// sparse or dense as `storage` says (Auto: sparse from
-  /// kSparseFromCells cells on). At most kMaxCells cells.
+  /// kSparseFromCells cells on; beyond 2^30 cells always sparse, since a
+  /// dense map's cells are found by 32-bit offsets). At most kMaxCells.
   void reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage = MapStorage::Auto);
 
   /// Marks the cells a polygon (world frame) overlaps. `obstacle` and
@@ -172,7 +173,8 @@ class StaticMap {
   std::vector<uint8_t> coarse_;
   // Sparse only: per block, its place in codes_ (in blocks). Places below
   // kUniformBlocks are the shared uniform blocks, place c all of code c.
-  std::vector<uint32_t> slots_;
+  // Read at random by rays near obstacles, so in huge pages too.
+  std::vector<uint32_t, HugePageAllocator<uint32_t>> slots_;
   // Sparse, while filling: places given back, to be reused.
   std::vector<uint32_t> free_slots_;
   int blocks_w_ = 1;  // blocks per row of blocks
