@@ -104,6 +104,20 @@ void run_chunks(World& w, ControllerHost& host, int steps, const Settings& s, Su
   }
 }
 
+// World-file lines of ring robots (arena.h's smallbot) at `poses`, named
+// r0, r1, ..., wandering.
+std::string wandering_smallbots(const std::vector<sim::Pose>& poses) {
+  std::string text;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "smallbot ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] ctrl \"wander avoid=0.4\" )\n", i,
+                  poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
+    text += line;
+  }
+  return text;
+}
+
 // The cave of simple.world with `n` Pioneers (laser and sonars) wandering.
 std::string cave_world(const Scratch& dir, int n) {
   world::GrayImage cave;
@@ -153,13 +167,7 @@ bool row_crowd(const Settings& s, Summary& out) {
   std::vector<sim::Pose> poses = place(map, 0.02, 1000, 0.3, 0.8, 3);
   std::string text = "resolution 0.02\ninterval_sim 100\n" + ring_robot_define();
   text += "model ( name \"office\" size [140 60 1] color \"gray30\" bitmap \"office.png\" )\n";
-  for (size_t i = 0; i < poses.size(); ++i) {
-    char line[200];
-    std::snprintf(line, sizeof line,
-                  "smallbot ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] ctrl \"wander avoid=0.4\" )\n", i,
-                  poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
-    text += line;
-  }
+  text += wandering_smallbots(poses);
   map = {};
   const double t1 = wall_s();
   ControllerHost host;
@@ -187,13 +195,7 @@ std::string write_campus(const std::string& dir, std::string& err) {
   text +=
       "model ( name \"campus\" size [1000 700 1] color \"gray30\" obstacle_return 1 bitmap \"campus.png\" "
       ")\n";
-  for (size_t i = 0; i < poses.size(); ++i) {
-    char line[200];
-    std::snprintf(line, sizeof line,
-                  "smallbot ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] ctrl \"wander avoid=0.4\" )\n", i,
-                  poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
-    text += line;
-  }
+  text += wandering_smallbots(poses);
   const std::string path = (std::filesystem::path(dir) / "campus.world").string();
   std::ofstream(path, std::ios::binary) << text;
   return path;
