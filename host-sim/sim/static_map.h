@@ -134,6 +134,12 @@ class StaticMap {
   Vec2 origin() const { return origin_; }
   uint8_t code(int ix, int iy) const { return codes_[index(ix, iy)]; }
   bool occupied(int ix, int iy) const { return code(ix, iy) <= kBarrier; }
+  /// True when block (bx, by), cells [kTile bx, kTile bx + kTile) on each
+  /// axis, holds no occupied cell; false before finish(). Lets a walk over
+  /// every cell (a snapshot) pass a campus's open ground a block at a time.
+  bool block_free(int bx, int by) const {
+    return !coarse_.empty() && coarse_[size_t(by) * size_t(blocks_w_) + size_t(bx)] > kBarrier;
+  }
   /// Bytes held.
   size_t memory_bytes() const {
     return codes_.capacity() + coarse_.capacity() + slots_.capacity() * sizeof(uint32_t);
