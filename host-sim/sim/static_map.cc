@@ -159,6 +159,20 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
       for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
     }
   }
+  // A rotated bitmap is a polygon per run of pixels: give back the blocks
+  // they have filled whole, or a building's inside would keep its cells.
+  if (sparse() && row0 <= row1) {
+    double xmin = 1e300, xmax = -1e300;
+    for (const Vec2& p : c) {
+      xmin = std::min(xmin, p.x);
+      xmax = std::max(xmax, p.x);
+    }
+    const int bx0 = int(std::clamp(std::floor(xmin), 0.0, double(w_ - 1))) >> kTileShift;
+    const int bx1 = int(std::clamp(std::floor(xmax), 0.0, double(w_ - 1))) >> kTileShift;
+    for (int by = row0 >> kTileShift; by <= row1 >> kTileShift; ++by) {
+      for (int bx = bx0; bx <= bx1; ++bx) release_if_uniform(size_t(by) * size_t(blocks_w_) + size_t(bx));
+    }
+  }
 }
 
 void StaticMap::finish() {

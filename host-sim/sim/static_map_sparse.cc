@@ -72,10 +72,9 @@ uint8_t* StaticMap::writable_block(size_t block) {
 
 void StaticMap::release_if_uniform(size_t block) {
   const uint32_t slot = slots_[block];
+  if (slot < kUniformBlocks) return;
   const uint8_t* cells = &codes_[size_t(slot) << (2 * kShift)];
-  if (slot < kUniformBlocks ||
-      !std::all_of(cells, cells + kBlockCells, [&](uint8_t c) { return c == cells[0]; }))
-    return;
+  if (!std::all_of(cells, cells + kBlockCells, [&](uint8_t c) { return c == cells[0]; })) return;
   free_slots_.push_back(slot);
   slots_[block] = cells[0];
 }

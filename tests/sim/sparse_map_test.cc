@@ -177,6 +177,12 @@ WorldDesc sensor_world(MapStorage storage) {
   floor.look.color = 0x206020;
   floor.look.fiducial_id = 7;
   d.statics.push_back(floor);
+  // The same bitmap again, small and turned: rasterized a polygon per run.
+  StaticDesc annex = floor;
+  annex.name = "annex";
+  annex.size = {12, 12};
+  annex.pose = {10, -12, 0.5};
+  d.statics.push_back(annex);
   std::uniform_real_distribution<double> pos(-22, 22), ang(-kPi, kPi), speed(0.2, 2);
   for (int i = 0; i < 12; ++i) {
     RobotDesc r = test::robot("r" + std::to_string(i), {pos(rng), pos(rng), ang(rng)}, 0.3);
