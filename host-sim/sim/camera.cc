@@ -97,7 +97,38 @@ void Engine::ray_spans(Vec2 o, Vec2 dir, double wall, double far, int ray, int r
 
 void Engine::update_cameras() {
   for (uint32_t index = 0; index < cameras.size(); ++index) {
-    if (cameras[index].wanted) render_camera(index);
+    if (!cameras[index].wanted) continue;
+    render_camera(index);
+    add_camera_noise(index);
+  }
+}
+
+void Engine::add_camera_noise(uint32_t index) {
+  CameraState& st = cameras[index];
+  const CameraDesc& d = desc.robots[st.robot].cameras[index - info[st.robot].cameras.first];
+  if (d.color_noise <= 0 && d.depth_noise <= 0) return;
+  const bool omni = d.projection == CameraProjection::Omni;
+  const uint64_t stream = Random::stream(uint64_t(RandomKind::CameraNoise), index, steps);
+  const size_t n = size_t(st.width) * size_t(st.height);
+  for (size_t px = 0; px < n; ++px) {
+    // Beyond an omni mirror's rim no light reaches the sensor: it stays
+    // black, as on a real F2000 camera.
+    if (omni && omni_pixels[px].ray < 0) continue;
+    // Four counters per pixel (red, green, blue, depth), so every value has
+    // its own numbers whichever of the two noises is on.
+    const uint64_t counter = 4 * uint64_t(px);
+    if (d.color_noise > 0) {
+      uint8_t* c = st.rgb.data() + 3 * px;
+      for (int k = 0; k < 3; ++k) {
+        const double v = c[k] + d.color_noise * random.gaussian(stream, counter + uint64_t(k));
+        c[k] = uint8_t(std::clamp(std::lround(v), 0l, 255l));
+      }
+    }
+    // A pixel that saw nothing within range has no depth to blur; a noisy
+    // depth never goes below 0.
+    float& z = st.depth[px];
+    if (d.depth_noise > 0 && std::isfinite(z))
+      z = std::max(0.0f, float(z + d.depth_noise * random.gaussian(stream, counter + 3)));
   }
 }
 

@@ -143,6 +143,13 @@ struct CameraDesc {
   double mirror_range = 4.0;           // m
   double mirror_ground = 0.8;          // fraction of the half side, 0..1
   double mirror_top = 30 * kPi / 180;  // rad above level
+  /// Zero-mean Gaussian noise added to every pixel (none at 0, which costs
+  /// nothing): the standard deviation of each colour channel, in levels of
+  /// 255, and of each depth, m. Drawn from the run's counter-based
+  /// generator by (camera, step, pixel), so an image's noise does not depend
+  /// on which other cameras rendered, or in which order.
+  double color_noise = 0;
+  double depth_noise = 0;
 };
 
 /// An omni camera's image side when the world file gives no resolution, px.

@@ -194,6 +194,9 @@ struct Engine {
   // camera.cc
   void update_cameras();
   void render_camera(uint32_t index);
+  /// Adds the camera's pixel noise (CameraDesc::color_noise, depth_noise)
+  /// to the image render_camera just made.
+  void add_camera_noise(uint32_t index);
   /// Renders into st's buffers, already sized; `at`: the camera, world frame.
   void render_omni(CameraState& st, const CameraDesc& d, const Pose& at);
   /// Robots other than the camera's own within `far` m of the camera at

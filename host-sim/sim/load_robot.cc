@@ -329,6 +329,16 @@ void Loader::camera(const Entity& e, const ModelCommon& c, const Pose& at, Robot
   d.pose = {at.x, at.y, at.a + pantilt[0]};
   d.tilt = pantilt[1];
   if (!omni_mirror(e, d)) return;
+  d.color_noise = read_.number(e, "color_noise", d.color_noise);
+  d.depth_noise = read_.length(e, "depth_noise", d.depth_noise);
+  if (!(d.color_noise >= 0 && d.color_noise <= 255)) {
+    diags().error(e.find("color_noise")->loc, "camera color_noise must be in [0, 255] (levels of 255)");
+    return;
+  }
+  if (!(d.depth_noise >= 0 && std::isfinite(d.depth_noise))) {
+    diags().error(e.find("depth_noise")->loc, "camera depth_noise must be 0 or more (m)");
+    return;
+  }
   if (e.find("size") != nullptr) {  // else Stage's camera size, not a model's
     d.size = c.size;
     d.size_z = c.look.height;

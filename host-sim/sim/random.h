@@ -19,6 +19,7 @@ enum class RandomKind : uint64_t {
   RangerGauss = 6,
   Controller = 4,
   Color = 5,
+  CameraNoise = 7,
 };
 
 }  // namespace troupe::sim
