@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -132,7 +133,7 @@ sim::RobotDesc ring_robot(const std::string& name, const sim::Pose& pose, const 
   return r;
 }
 
-std::string ring_robot_define() {
+std::string ring_robot_define(const std::string& name, double side) {
   std::string s = "define ring12 ranger (\n";
   for (int i = 0; i < 12; ++i) {
     const double a = i * 30.0, rad = a * sim::kPi / 180;
@@ -143,8 +144,13 @@ std::string ring_robot_define() {
     s += line;
   }
   s += ")\n";
-  s += "define smallbot position ( size [ 0.25 0.25 0.2 ] velocity_bounds [ -0.5 0.5 0 0 0 0 -90 90 ] ring12 "
-       "( ) )\n";
+  char robot[200];
+  std::snprintf(
+      robot, sizeof robot,
+      "define %s position ( size [ %.3f %.3f 0.2 ] velocity_bounds [ -0.5 0.5 0 0 0 0 -90 90 ] ring12 "
+      "( ) )\n",
+      name.c_str(), side, side);
+  s += robot;
   return s;
 }
 
