@@ -11,6 +11,7 @@
 #include "host-sim/sim/desc.h"
 #include "host-sim/sim/profile.h"
 #include "host-sim/sim/random.h"
+#include "host-sim/sim/robot_layer.h"
 #include "host-sim/sim/spatial_hash.h"
 #include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
@@ -185,6 +186,14 @@ struct Engine {
   void prefetch_rangers(const SpatialHash::Item& item) const;
   /// Distance along a ray to robot j's outline, m; negative when missed.
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
+  /// The same with the cosine and sine of its heading given (`turn`).
+  double ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const;
+  /// Lowers the ranges (m) of ranger `rs`'s beams, cast as ray_queries
+  /// with the walls' ranges in `out`, to the robots they meet first, and
+  /// sets those beams' intensities: three ways to the same result.
+  void beams_meet_candidates(const RangerState& rs, float* out, float* inten);
+  void beams_meet_layer(const RangerState& rs, float* out, float* inten);
+  void beams_meet_every(const RangerState& rs, float* out, float* inten);
   /// The static model owning the occupied cell at `p` (smallest box wins).
   const StaticInfo* static_at(Vec2 p) const;
   // detectors.cc
@@ -253,6 +262,23 @@ struct Engine {
   };
   std::vector<Candidate> ranger_candidates;
   std::vector<RayQuery> ray_queries;
+  World::RangerRobots ranger_robots = World::RangerRobots::Auto;
+  // The robots for rangers as a layer of cells (robot_layer.h), built at
+  // most once per update_rangers(), when a ranger first needs it; with the
+  // cosine and sine of each listed robot's heading (robot_turns), and per
+  // robot the last beam that tested it (robot_stamps: a robot listed in
+  // several cells is tested once per beam).
+  RobotLayer robot_layer;
+  bool robot_layer_fresh = false;
+  std::vector<Vec2> robot_turns;
+  std::vector<uint32_t> robot_stamps;
+  uint32_t beam_stamp = 0;
+  struct RobotHit {
+    uint32_t order;  // the robot's place in the hash's order
+    RobotId robot;
+    double t;  // m along the beam
+  };
+  std::vector<RobotHit> robot_hits;
   std::vector<float> wall_ranges;
   std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;

@@ -1,7 +1,12 @@
 // The ranger model (sonar rings, IR, lasers). Each beam is cast through the
-// static grid; then the robots near the sensor are tested only against the
-// beams their bounding circle can cross (an angular interval per robot), and
-// only where they could be nearer than the wall already found.
+// static grid; then the robots in its way lower its range. Two ways find
+// them, to the same result bit for bit. Where few robots stand within a
+// ranger's reach, each is tested only against the beams its bounding circle
+// can cross (an angular interval per robot), and only where it could be
+// nearer than the wall already found. In a crowd that is a few hundred
+// robots per ranger, so there each beam walks the per-step robot layer
+// instead (robot_layer.h), nearest cells first, and stops behind the first
+// robot it meets: its cost no longer grows with the robots around it.
 #include <algorithm>
 #include <cmath>
 #include <span>
@@ -19,9 +24,14 @@ int index_at(double v, int lo, int hi) {
 }  // namespace
 
 double Engine::ray_robot(RobotId j, Vec2 origin, Vec2 dir) const {
+  const double a = bodies[j].pose.a;
+  return ray_robot(j, {std::cos(a), std::sin(a)}, origin, dir);
+}
+
+double Engine::ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const {
   const Body& b = bodies[j];
   // Into the robot's frame, where its outline is stored.
-  const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
+  const double c = turn.x, s = turn.y;
   const Vec2 d0{origin.x - b.pose.x, origin.y - b.pose.y};
   const Vec2 o{c * d0.x + s * d0.y, -s * d0.x + c * d0.y};
   const Vec2 d{c * dir.x + s * dir.y, -s * dir.x + c * dir.y};
@@ -64,12 +74,153 @@ void Engine::update_rangers() {
   // their latency overlaps the rays of the robots before them.
   constexpr size_t kAhead = 4;
   const std::span<const SpatialHash::Item> order = hash.order();
+  robot_layer_fresh = false;
   for (size_t n = 0; n < order.size(); ++n) {
     if (n + 2 * kAhead < order.size()) __builtin_prefetch(&robot_rangers[order[n + 2 * kAhead].index]);
     if (n + kAhead < order.size()) prefetch_rangers(order[n + kAhead]);
     const IndexRange r = robot_rangers[order[n].index];
     for (uint32_t k = r.first; k < r.first + r.count; ++k) {
       if (rangers[k].wanted) update_ranger(k);
+    }
+  }
+}
+
+void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* inten) {
+  // Robots that may cross a beam, tested only on the beams they can cross
+  // and only where they could be nearer than what the beam already hit.
+  // From the hash's copies of the robots' circles (which hold each robot
+  // over this step's move): no robot data is touched to filter.
+  ranger_candidates.clear();
+  const double sx = bodies[rs.robot].pose.x, sy = bodies[rs.robot].pose.y;
+  hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
+    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
+    const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
+    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
+      ranger_candidates.push_back({it.index, it.x, it.y, r});
+  });
+  for (uint32_t t = rs.transducer_first;
+       t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
+    const Transducer& td = transducers[t];
+    const uint32_t first = td.beam_offset, n = td.samples;
+    const Pose& org = transducer_poses[t - rs.transducer_first];
+    const Vec2 o{org.x, org.y};
+    for (const Candidate& cand : ranger_candidates) {
+      const double dx = cand.x - o.x, dy = cand.y - o.y;
+      // The beams to test: up to three spans [lo, hi] of indices.
+      int beam_spans[3][2] = {{0, int(n) - 1}, {0, -1}, {0, -1}};
+      if (n == 1) {
+        // One beam: does it pass within the robot's circle, ahead of what it hit?
+        const Vec2 d = ray_queries[first].dir;
+        const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
+        if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
+      } else {
+        const double dist = std::hypot(dx, dy);
+        if (dist - cand.r >= td.range_max) continue;
+        const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
+        if (half < kPi && td.incr > 0) {
+          const int last = int(n) - 1;
+          // Bearing from the first beam; the fan is centred on the heading.
+          const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
+          // The robot's bearings, and the same a turn either way: a robot
+          // behind a wide fan, or close behind any fan, spans beams at both
+          // of its ends.
+          for (int k = 0; k < 3; ++k) {
+            const double at = rel + (k - 1) * 2 * kPi;
+            beam_spans[k][0] = std::max(0, index_at(std::ceil((at - half) / td.incr), 0, last));
+            beam_spans[k][1] = std::min(last, index_at(std::floor((at + half) / td.incr), 0, last));
+          }
+        }
+      }
+      // Nearer than this, nothing of the robot is: beams that stopped at a
+      // wall before it cannot see it.
+      const double near = std::hypot(dx, dy) - cand.r;
+      for (const auto& span : beam_spans) {
+        for (int s = span[0]; s <= span[1]; ++s) {
+          const RayQuery& q = ray_queries[first + uint32_t(s)];
+          float& r = out[first + uint32_t(s)];
+          if (near >= r) continue;
+          const double hit = ray_robot(cand.index, q.origin, q.dir);
+          if (hit >= 0 && hit < r) {
+            r = float(hit);
+            inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
+          }
+        }
+      }
+    }
+  }
+}
+
+namespace {
+
+// How far (m) beyond the nearest robot hit a beam still looks: hits within a
+// float's rounding of each other are settled in the hash's order, as the
+// candidates' loop settles them, so every way gives the same float.
+double tie_margin(double t) {
+  return 1e-6 * std::max(1.0, t);
+}
+
+}  // namespace
+
+void Engine::beams_meet_layer(const RangerState& rs, float* out, float* inten) {
+  if (!robot_layer_fresh) {
+    robot_layer.build(hash, kHashRangerVisible);
+    robot_turns.resize(bodies.size());
+    for (const SpatialHash::Item& it : hash.order()) {
+      const double a = bodies[it.index].pose.a;
+      robot_turns[it.index] = {std::cos(a), std::sin(a)};
+    }
+    robot_stamps.resize(bodies.size());
+    robot_layer_fresh = true;
+  }
+  for (uint32_t b = 0; b < rs.beam_count; ++b) {
+    const RayQuery& q = ray_queries[b];
+    float& r = out[b];
+    if (++beam_stamp == 0) {  // wrapped: forget every stamp
+      std::fill(robot_stamps.begin(), robot_stamps.end(), 0u);
+      beam_stamp = 1;
+    }
+    robot_hits.clear();
+    double best = r;  // nearest hit so far; only hits below r count
+    double limit = r;
+    robot_layer.walk(q.origin, q.dir, r, [&](std::span<const RobotLayer::Entry> cell, double) {
+      for (const RobotLayer::Entry& e : cell) {
+        if (e.index == rs.robot) continue;
+        const double dx = e.x - q.origin.x, dy = e.y - q.origin.y;
+        const double along = q.dir.x * dx + q.dir.y * dy, across = q.dir.x * dy - q.dir.y * dx;
+        if (std::fabs(across) > e.r || along + e.r < 0 || along - e.r >= limit) continue;
+        if (robot_stamps[e.index] == beam_stamp) continue;
+        robot_stamps[e.index] = beam_stamp;
+        const double hit = ray_robot(e.index, robot_turns[e.index], q.origin, q.dir);
+        if (hit < 0 || !(hit < r)) continue;
+        robot_hits.push_back({e.order, e.index, hit});
+        best = std::min(best, hit);
+        limit = std::min(double(r), best + tie_margin(best));
+      }
+      return limit;
+    });
+    if (robot_hits.empty()) continue;
+    // The near ties, in the hash's order, lowered as the candidates' loop
+    // lowers them (farther hits cannot be what that loop ends with).
+    std::sort(robot_hits.begin(), robot_hits.end(),
+              [](const RobotHit& x, const RobotHit& y) { return x.order < y.order; });
+    for (const RobotHit& h : robot_hits) {
+      if (h.t <= limit && h.t < r) {
+        r = float(h.t);
+        inten[b] = bodies[h.robot].ranger_return;
+      }
+    }
+  }
+}
+
+void Engine::beams_meet_every(const RangerState& rs, float* out, float* inten) {
+  for (const SpatialHash::Item& it : hash.order()) {
+    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) continue;
+    for (uint32_t b = 0; b < rs.beam_count; ++b) {
+      const double hit = ray_robot(it.index, ray_queries[b].origin, ray_queries[b].dir);
+      if (hit >= 0 && hit < out[b]) {
+        out[b] = float(hit);
+        inten[b] = bodies[it.index].ranger_return;
+      }
     }
   }
 }
@@ -126,64 +277,27 @@ void Engine::update_ranger(uint32_t index) {
     }
   }
 
-  // Robots that may cross a beam, tested only on the beams they can cross
-  // and only where they could be nearer than what the beam already hit.
-  // From the hash's copies of the robots' circles (which hold each robot
-  // over this step's move): no robot data is touched to filter.
-  ranger_candidates.clear();
-  const double sx = self.pose.x, sy = self.pose.y;
-  hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
-    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
-    const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
-    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
-      ranger_candidates.push_back({it.index, it.x, it.y, r});
-  });
-  for (uint32_t t = rs.transducer_first;
-       t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
-    const Transducer& td = transducers[t];
-    const uint32_t first = td.beam_offset, n = td.samples;
-    const Pose& org = transducer_poses[t - rs.transducer_first];
-    const Vec2 o{org.x, org.y};
-    for (const Candidate& cand : ranger_candidates) {
-      const double dx = cand.x - o.x, dy = cand.y - o.y;
-      int lo = 0, hi = int(n) - 1;
-      if (n == 1) {
-        // One beam: does it pass within the robot's circle, ahead of what it hit?
-        const Vec2 d = ray_queries[first].dir;
-        const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
-        if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
+  // Robots in the beams. The layer pays off from about this many robots
+  // within the ranger's reach (counted by the hash's cells, which may list
+  // a few more): measured on the crowd, packed and cave rows.
+  constexpr size_t kLayerFrom = 24;
+  switch (ranger_robots) {
+    case World::RangerRobots::Auto:
+      if (hash.count_items({self.pose.x, self.pose.y}, rs.reach) >= kLayerFrom) {
+        beams_meet_layer(rs, out, inten);
       } else {
-        const double dist = std::hypot(dx, dy);
-        if (dist - cand.r >= td.range_max) continue;
-        const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
-        if (half < kPi && td.incr > 0) {
-          const int last = int(n) - 1;
-          // Bearing from the first beam; the fan is centred on the heading.
-          const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
-          lo = std::max(0, index_at(std::ceil((rel - half) / td.incr), 0, last));
-          hi = std::min(last, index_at(std::floor((rel + half) / td.incr), 0, last));
-          // A fan reaching round behind the sensor: the other side of the seam.
-          if (lo > hi && td.incr * last > kPi) {
-            const double wrapped = rel < 0 ? rel + 2 * kPi : rel - 2 * kPi;
-            lo = std::max(0, index_at(std::ceil((wrapped - half) / td.incr), 0, last));
-            hi = std::min(last, index_at(std::floor((wrapped + half) / td.incr), 0, last));
-          }
-        }
+        beams_meet_candidates(rs, out, inten);
       }
-      // Nearer than this, nothing of the robot is: beams that stopped at a
-      // wall before it cannot see it.
-      const double near = std::hypot(dx, dy) - cand.r;
-      for (int s = lo; s <= hi; ++s) {
-        const RayQuery& q = ray_queries[first + uint32_t(s)];
-        float& r = out[first + uint32_t(s)];
-        if (near >= r) continue;
-        const double hit = ray_robot(cand.index, q.origin, q.dir);
-        if (hit >= 0 && hit < r) {
-          r = float(hit);
-          inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
-        }
-      }
-    }
+      break;
+    case World::RangerRobots::Candidates:
+      beams_meet_candidates(rs, out, inten);
+      break;
+    case World::RangerRobots::Layer:
+      beams_meet_layer(rs, out, inten);
+      break;
+    case World::RangerRobots::Every:
+      beams_meet_every(rs, out, inten);
+      break;
   }
 
   // Noise on returns, then the sensor's limits.
