@@ -190,10 +190,17 @@ struct Engine {
   double ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const;
   /// Lowers the ranges (m) of ranger `rs`'s beams, cast as ray_queries
   /// with the walls' ranges in `out`, to the robots they meet first, and
-  /// sets those beams' intensities: three ways to the same result.
+  /// sets those beams' intensities. Three ways to the same result: these
+  /// two, and the layer's below.
   void beams_meet_candidates(const RangerState& rs, float* out, float* inten);
-  void beams_meet_layer(const RangerState& rs, float* out, float* inten);
   void beams_meet_every(const RangerState& rs, float* out, float* inten);
+  /// The layer's way, before the walls are cast: finds the robots each of
+  /// ray_queries meets first (robot_hits, beam_hits), not counting robot
+  /// self_robot, and shortens the queries to end just past them.
+  void layer_hits_first();
+  /// After the walls are cast (out, m): lowers the ranges to the robots
+  /// found first, and sets those beams' intensities.
+  void settle_layer_hits(float* out, float* inten);
   /// The static model owning the occupied cell at `p` (smallest box wins).
   const StaticInfo* static_at(Vec2 p) const;
   // detectors.cc
@@ -279,6 +286,9 @@ struct Engine {
     double t;  // m along the beam
   };
   std::vector<RobotHit> robot_hits;
+  // Beam b's hits: robot_hits[beam_hits[b] .. beam_hits[b + 1]).
+  std::vector<uint32_t> beam_hits;
+  RobotId self_robot = 0;  // the robot whose ranger layer_hits_first() casts for
   std::vector<float> wall_ranges;
   std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;

@@ -161,7 +161,7 @@ double tie_margin(double t) {
 
 }  // namespace
 
-void Engine::beams_meet_layer(const RangerState& rs, float* out, float* inten) {
+void Engine::layer_hits_first() {
   if (!robot_layer_fresh) {
     robot_layer.build(hash, kHashRangerVisible);
     robot_turns.resize(bodies.size());
@@ -172,41 +172,63 @@ void Engine::beams_meet_layer(const RangerState& rs, float* out, float* inten) {
     robot_stamps.resize(bodies.size());
     robot_layer_fresh = true;
   }
-  for (uint32_t b = 0; b < rs.beam_count; ++b) {
-    const RayQuery& q = ray_queries[b];
-    float& r = out[b];
+  robot_hits.clear();
+  beam_hits.clear();
+  for (RayQuery& q : ray_queries) {
+    beam_hits.push_back(uint32_t(robot_hits.size()));
     if (++beam_stamp == 0) {  // wrapped: forget every stamp
       std::fill(robot_stamps.begin(), robot_stamps.end(), 0u);
       beam_stamp = 1;
     }
-    robot_hits.clear();
-    double best = r;  // nearest hit so far; only hits below r count
-    double limit = r;
-    robot_layer.walk(q.origin, q.dir, r, [&](std::span<const RobotLayer::Entry> cell, double) {
+    const size_t first = robot_hits.size();
+    const double range = q.max_range;  // only hits below it count
+    double best = range, limit = range;
+    robot_layer.walk(q.origin, q.dir, range, [&](std::span<const RobotLayer::Entry> cell, double) {
       for (const RobotLayer::Entry& e : cell) {
-        if (e.index == rs.robot) continue;
+        if (e.index == self_robot) continue;
         const double dx = e.x - q.origin.x, dy = e.y - q.origin.y;
         const double along = q.dir.x * dx + q.dir.y * dy, across = q.dir.x * dy - q.dir.y * dx;
         if (std::fabs(across) > e.r || along + e.r < 0 || along - e.r >= limit) continue;
         if (robot_stamps[e.index] == beam_stamp) continue;
         robot_stamps[e.index] = beam_stamp;
         const double hit = ray_robot(e.index, robot_turns[e.index], q.origin, q.dir);
-        if (hit < 0 || !(hit < r)) continue;
+        if (hit < 0 || !(hit < range)) continue;
         robot_hits.push_back({e.order, e.index, hit});
         best = std::min(best, hit);
-        limit = std::min(double(r), best + tie_margin(best));
+        limit = std::min(range, best + tie_margin(best));
       }
       return limit;
     });
-    if (robot_hits.empty()) continue;
-    // The near ties, in the hash's order, lowered as the candidates' loop
-    // lowers them (farther hits cannot be what that loop ends with).
-    std::sort(robot_hits.begin(), robot_hits.end(),
-              [](const RobotHit& x, const RobotHit& y) { return x.order < y.order; });
-    for (const RobotHit& h : robot_hits) {
-      if (h.t <= limit && h.t < r) {
-        r = float(h.t);
-        inten[b] = bodies[h.robot].ranger_return;
+    if (robot_hits.size() == first) continue;
+    // Only the near ties matter: farther hits cannot be what the
+    // candidates' loop ends with.
+    size_t kept = first;
+    for (size_t h = first; h < robot_hits.size(); ++h) {
+      if (robot_hits[h].t <= limit) robot_hits[kept++] = robot_hits[h];
+    }
+    robot_hits.resize(kept);
+    // The walls matter only before the nearest robot: the cast stops a
+    // little beyond it (past every near tie), and finds any wall before
+    // that where the full cast would (the march is the same up to there).
+    const double reach = best + 3 * tie_margin(best);
+    if (reach < range) q.max_range = float(reach);
+  }
+  beam_hits.push_back(uint32_t(robot_hits.size()));
+}
+
+void Engine::settle_layer_hits(float* out, float* inten) {
+  for (uint32_t b = 0; b + 1 < beam_hits.size(); ++b) {
+    const auto first = robot_hits.begin() + beam_hits[b], last = robot_hits.begin() + beam_hits[b + 1];
+    // Lowered in the hash's order, as the candidates' loop lowers them, from
+    // the wall's range (or, past the shortened cast's end, its end: beyond
+    // every near tie, as the full cast's wall is).
+    if (last - first > 1) {
+      std::sort(first, last, [](const RobotHit& x, const RobotHit& y) { return x.order < y.order; });
+    }
+    for (auto h = first; h != last; ++h) {
+      if (h->t < out[b]) {
+        out[b] = float(h->t);
+        inten[b] = bodies[h->robot].ranger_return;
       }
     }
   }
@@ -262,6 +284,18 @@ void Engine::update_ranger(uint32_t index) {
       dir = {c * dir.x - sn * dir.y, sn * dir.x + c * dir.y};
     }
   }
+  // Robots in the beams. The layer pays off from about this many robots
+  // within the ranger's reach (counted by the hash's cells, which may list
+  // a few more): measured on the crowd, packed and cave rows. It finds the
+  // robots first, so the walls are cast only up to them.
+  constexpr size_t kLayerFrom = 24;
+  const bool layer = ranger_robots == World::RangerRobots::Layer ||
+                     (ranger_robots == World::RangerRobots::Auto &&
+                      hash.count_items({self.pose.x, self.pose.y}, rs.reach) >= kLayerFrom);
+  if (layer) {
+    self_robot = rs.robot;
+    layer_hits_first();
+  }
   map.cast_batch(ray_queries, StaticMap::kRangerMask, out);
   const bool one_static = statics.size() == 1;
   const float static_return = one_static ? float(std::max(0.0, statics[0].look.ranger_return)) : 1.0f;
@@ -277,27 +311,12 @@ void Engine::update_ranger(uint32_t index) {
     }
   }
 
-  // Robots in the beams. The layer pays off from about this many robots
-  // within the ranger's reach (counted by the hash's cells, which may list
-  // a few more): measured on the crowd, packed and cave rows.
-  constexpr size_t kLayerFrom = 24;
-  switch (ranger_robots) {
-    case World::RangerRobots::Auto:
-      if (hash.count_items({self.pose.x, self.pose.y}, rs.reach) >= kLayerFrom) {
-        beams_meet_layer(rs, out, inten);
-      } else {
-        beams_meet_candidates(rs, out, inten);
-      }
-      break;
-    case World::RangerRobots::Candidates:
-      beams_meet_candidates(rs, out, inten);
-      break;
-    case World::RangerRobots::Layer:
-      beams_meet_layer(rs, out, inten);
-      break;
-    case World::RangerRobots::Every:
-      beams_meet_every(rs, out, inten);
-      break;
+  if (layer) {
+    settle_layer_hits(out, inten);
+  } else if (ranger_robots == World::RangerRobots::Every) {
+    beams_meet_every(rs, out, inten);
+  } else {
+    beams_meet_candidates(rs, out, inten);
   }
 
   // Noise on returns, then the sensor's limits.

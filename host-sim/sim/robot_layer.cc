@@ -30,11 +30,12 @@ void RobotLayer::build(const SpatialHash& hash, uint32_t flags) {
     nx_ = ny_ = 0;
     return;
   }
-  // Cells about a robot wide, so a robot is listed in about four and a cell
-  // lists about as many robots as stand on its area; wider when the robots
-  // are spread so far apart that such cells would outnumber them by far.
+  // Cells three quarters of the widest robot circle wide: a robot is listed
+  // in four to nine, a cell lists a few. Half and whole widths measured the
+  // same on the packed row (callgrind). Wider when the robots are spread so
+  // far apart that such cells would outnumber them by far.
   const double w = x1 - x0, h = y1 - y0;
-  cell_ = std::max({2 * max_r, std::sqrt(w * h / (4.0 * double(n) + 64)), 1e-3});
+  cell_ = std::max({1.5 * max_r, std::sqrt(w * h / (4.0 * double(n) + 64)), 1e-3});
   inv_cell_ = 1 / cell_;
   nx_ = std::max(1, int(std::ceil(w * inv_cell_)));
   ny_ = std::max(1, int(std::ceil(h * inv_cell_)));
