@@ -266,6 +266,9 @@ struct Engine {
   struct Candidate {
     uint32_t index;
     double x, y, r;  // a circle holding the robot this step, m
+    // The cosine and sine of its heading, once a beam first needs them
+    // (then every other beam reuses them): x is NaN before.
+    Vec2 turn;
   };
   std::vector<Candidate> ranger_candidates;
   std::vector<RayQuery> ray_queries;

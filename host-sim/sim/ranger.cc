@@ -96,7 +96,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
     if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
     const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
     if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
-      ranger_candidates.push_back({it.index, it.x, it.y, r});
+      ranger_candidates.push_back({it.index, it.x, it.y, r, {std::nan(""), 0}});
   });
   for (uint32_t t = rs.transducer_first;
        t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
@@ -104,7 +104,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
     const uint32_t first = td.beam_offset, n = td.samples;
     const Pose& org = transducer_poses[t - rs.transducer_first];
     const Vec2 o{org.x, org.y};
-    for (const Candidate& cand : ranger_candidates) {
+    for (Candidate& cand : ranger_candidates) {
       const double dx = cand.x - o.x, dy = cand.y - o.y;
       // The beams to test: up to three spans [lo, hi] of indices.
       int beam_spans[3][2] = {{0, int(n) - 1}, {0, -1}, {0, -1}};
@@ -139,7 +139,11 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
           const RayQuery& q = ray_queries[first + uint32_t(s)];
           float& r = out[first + uint32_t(s)];
           if (near >= r) continue;
-          const double hit = ray_robot(cand.index, q.origin, q.dir);
+          if (std::isnan(cand.turn.x)) {
+            const double a = bodies[cand.index].pose.a;
+            cand.turn = {std::cos(a), std::sin(a)};
+          }
+          const double hit = ray_robot(cand.index, cand.turn, q.origin, q.dir);
           if (hit >= 0 && hit < r) {
             r = float(hit);
             inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
@@ -284,14 +288,18 @@ void Engine::update_ranger(uint32_t index) {
       dir = {c * dir.x - sn * dir.y, sn * dir.x + c * dir.y};
     }
   }
-  // Robots in the beams. The layer pays off from about this many robots
-  // within the ranger's reach (counted by the hash's cells, which may list
-  // a few more): measured on the crowd, packed and cave rows. It finds the
-  // robots first, so the walls are cast only up to them.
+  // Robots in the beams. The candidates' cost grows with the robots within
+  // the ranger's reach times its transducers (each robot is placed among
+  // each transducer's beams), the layer's with its beams: the layer pays off
+  // from about this many robots per beam of a transducer (counted by the
+  // hash's cells, which may list a few more), measured on the crowd, packed
+  // and cave rows. It finds the robots first, so the walls are cast only up
+  // to them.
   constexpr size_t kLayerFrom = 24;
   const bool layer = ranger_robots == World::RangerRobots::Layer ||
                      (ranger_robots == World::RangerRobots::Auto &&
-                      hash.count_items({self.pose.x, self.pose.y}, rs.reach) >= kLayerFrom);
+                      hash.count_items({self.pose.x, self.pose.y}, rs.reach) * rs.transducer_count >=
+                          kLayerFrom * rs.beam_count);
   if (layer) {
     self_robot = rs.robot;
     layer_hits_first();
