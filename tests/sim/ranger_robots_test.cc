@@ -1,7 +1,8 @@
 // Rangers among many robots: the per-step robot layer (robot_layer.h), the
 // per-robot candidates and the plain test of every robot against every beam
 // give the same ranges and intensities, beam by beam and bit for bit, on
-// random packed crowds of moving robots of several shapes.
+// random packed crowds of moving robots of several shapes; and the ray-edge
+// test under all three gives what its plain formula gives.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host-sim/sim/geometry.h"
 #include "host-sim/sim/robot_layer.h"
 #include "host-sim/sim/world.h"
 #include "tests/sim/scenes.h"
@@ -136,6 +138,40 @@ TEST(RangerRobots, ABeamFromOutsideTheLayerIsClippedIntoIt) {
   // The middle beam runs along y = 0 to the face x = 1.9 of the robot at (2, 0).
   EXPECT_NEAR(v.ranges[1], 1.9 - (-5), 1e-6);
   EXPECT_FLOAT_EQ(v.intensities[1], 0.5f);
+}
+
+// The ray-edge test as plainly written: both quotients, then the range
+// checks. ray_segment skips the divisions for edges missed by far and must
+// give the same double for every other.
+double ray_segment_plain(Vec2 o, Vec2 d, Vec2 a, Vec2 b) {
+  const Vec2 e = b - a;
+  const double den = cross(d, e);
+  if (std::fabs(den) < 1e-15) return -1;
+  const Vec2 ao = a - o;
+  const double t = cross(ao, e) / den, u = cross(ao, d) / den;
+  return (t >= 0 && u >= 0 && u <= 1) ? t : -1;
+}
+
+TEST(RaySegment, SkippingTheDivisionsChangesNoResult) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-2, 2), ang(-kPi, kPi);
+  size_t hits = 0, n = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double a0 = ang(rng);
+    const Vec2 o{u(rng), u(rng)}, d{std::cos(a0), std::sin(a0)};
+    Vec2 a{u(rng), u(rng)}, b{u(rng), u(rng)};
+    // Every fourth edge ends on the ray, or starts at its origin: the
+    // quotients land on 0 or 1, where rounding decides.
+    if (i % 4 == 1) a = o + 1.5 * d;
+    if (i % 4 == 2) b = o + 0.25 * d;
+    if (i % 4 == 3) a = o;
+    const double want = ray_segment_plain(o, d, a, b), got = ray_segment(o, d, a, b);
+    ++n;
+    hits += want >= 0;
+    ASSERT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "case " << i << ": " << got << " against " << want;
+  }
+  EXPECT_GT(hits, n / 10);  // both outcomes are exercised
+  EXPECT_LT(hits, n * 9 / 10);
 }
 
 TEST(RobotLayer, AnEmptyLayerWalksNoCell) {
