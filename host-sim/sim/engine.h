@@ -179,6 +179,9 @@ struct Engine {
   void take_accepted_moves();
   bool hits_static(RobotId i, const Pose& from, const Pose& to);
   bool overlaps_robot(RobotId i, const Pose& pi, RobotId j, const Pose& pj);
+  /// The same, reusing robot i's outline at pi in scratch_verts and
+  /// scratch_polys when have_own says it is there (and setting it once it is).
+  bool meets_robot(RobotId i, const Pose& pi, bool& have_own, RobotId j, const Pose& pj);
   // ranger.cc
   void update_rangers();
   void update_ranger(uint32_t index);
