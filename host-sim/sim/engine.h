@@ -294,6 +294,9 @@ struct Engine {
   std::vector<RobotHit> robot_hits;
   // Beam b's hits: robot_hits[beam_hits[b] .. beam_hits[b + 1]).
   std::vector<uint32_t> beam_hits;
+  // Beam b's end (m) when no wall can be before its robots, so it is not
+  // cast; 0 when it is.
+  std::vector<float> beam_ends;
   RobotId self_robot = 0;  // the robot whose ranger layer_hits_first() casts for
   std::vector<float> wall_ranges;
   std::vector<Pose> transducer_poses;

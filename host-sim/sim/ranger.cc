@@ -9,6 +9,7 @@
 // robot it meets: its cost no longer grows with the robots around it.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "host-sim/sim/engine.h"
@@ -96,7 +97,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
     if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
     const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
     if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
-      ranger_candidates.push_back({it.index, it.x, it.y, r, {std::nan(""), 0}});
+      ranger_candidates.push_back({it.index, it.x, it.y, r, {std::numeric_limits<double>::quiet_NaN(), 0}});
   });
   for (uint32_t t = rs.transducer_first;
        t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
@@ -178,8 +179,12 @@ void Engine::layer_hits_first() {
   }
   robot_hits.clear();
   beam_hits.clear();
+  beam_ends.clear();
+  Vec2 clear_at{std::numeric_limits<double>::quiet_NaN(), 0};
+  double clear = 0;  // m free of walls around clear_at
   for (RayQuery& q : ray_queries) {
     beam_hits.push_back(uint32_t(robot_hits.size()));
+    beam_ends.push_back(0);
     if (++beam_stamp == 0) {  // wrapped: forget every stamp
       std::fill(robot_stamps.begin(), robot_stamps.end(), 0u);
       beam_stamp = 1;
@@ -215,13 +220,27 @@ void Engine::layer_hits_first() {
     // little beyond it (past every near tie), and finds any wall before
     // that where the full cast would (the march is the same up to there).
     const double reach = best + 3 * tie_margin(best);
-    if (reach < range) q.max_range = float(reach);
+    if (reach >= range) continue;
+    // Nearer than the distance field's bound around the beam's origin, no
+    // wall is: the cast is not needed at all (its range 0 ends it at once),
+    // and its end is the beam's (a transducer's beams share their origin).
+    if (!(q.origin.x == clear_at.x && q.origin.y == clear_at.y)) {
+      clear_at = q.origin;
+      clear = map.clearance(q.origin);
+    }
+    if (reach < clear) {
+      beam_ends.back() = float(reach);
+      q.max_range = 0;
+    } else {
+      q.max_range = float(reach);
+    }
   }
   beam_hits.push_back(uint32_t(robot_hits.size()));
 }
 
 void Engine::settle_layer_hits(float* out, float* inten) {
   for (uint32_t b = 0; b + 1 < beam_hits.size(); ++b) {
+    if (beam_ends[b] > 0) out[b] = beam_ends[b];  // not cast: no wall before this
     const auto first = robot_hits.begin() + beam_hits[b], last = robot_hits.begin() + beam_hits[b + 1];
     // Lowered in the hash's order, as the candidates' loop lowers them, from
     // the wall's range (or, past the shortened cast's end, its end: beyond
