@@ -107,49 +107,50 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
     const Vec2 o{org.x, org.y};
     for (Candidate& cand : ranger_candidates) {
       const double dx = cand.x - o.x, dy = cand.y - o.y;
-      // The beams to test: up to three spans [lo, hi] of indices.
-      int beam_spans[3][2] = {{0, int(n) - 1}, {0, -1}, {0, -1}};
+      // Lowers beam s of the transducer to the robot, where it is nearer.
+      // Nearer than `near`, nothing of the robot is: beams that stopped at
+      // a wall before it cannot see it.
+      auto test = [&](int s, double near) {
+        const RayQuery& q = ray_queries[first + uint32_t(s)];
+        float& r = out[first + uint32_t(s)];
+        if (near >= r) return;
+        if (std::isnan(cand.turn.x)) {
+          const double a = bodies[cand.index].pose.a;
+          cand.turn = {std::cos(a), std::sin(a)};
+        }
+        const double hit = ray_robot(cand.index, cand.turn, q.origin, q.dir);
+        if (hit >= 0 && hit < r) {
+          r = float(hit);
+          inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
+        }
+      };
       if (n == 1) {
         // One beam: does it pass within the robot's circle, ahead of what it hit?
         const Vec2 d = ray_queries[first].dir;
         const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
         if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
-      } else {
-        const double dist = std::hypot(dx, dy);
-        if (dist - cand.r >= td.range_max) continue;
-        const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
-        if (half < kPi && td.incr > 0) {
-          const int last = int(n) - 1;
-          // Bearing from the first beam; the fan is centred on the heading.
-          const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
-          // The robot's bearings, and the same a turn either way: a robot
-          // behind a wide fan, or close behind any fan, spans beams at both
-          // of its ends.
-          for (int k = 0; k < 3; ++k) {
-            const double at = rel + (k - 1) * 2 * kPi;
-            beam_spans[k][0] = std::max(0, index_at(std::ceil((at - half) / td.incr), 0, last));
-            beam_spans[k][1] = std::min(last, index_at(std::floor((at + half) / td.incr), 0, last));
-          }
-        }
+        test(0, std::hypot(dx, dy) - cand.r);
+        continue;
       }
-      // Nearer than this, nothing of the robot is: beams that stopped at a
-      // wall before it cannot see it.
-      const double near = std::hypot(dx, dy) - cand.r;
-      for (const auto& span : beam_spans) {
-        for (int s = span[0]; s <= span[1]; ++s) {
-          const RayQuery& q = ray_queries[first + uint32_t(s)];
-          float& r = out[first + uint32_t(s)];
-          if (near >= r) continue;
-          if (std::isnan(cand.turn.x)) {
-            const double a = bodies[cand.index].pose.a;
-            cand.turn = {std::cos(a), std::sin(a)};
-          }
-          const double hit = ray_robot(cand.index, cand.turn, q.origin, q.dir);
-          if (hit >= 0 && hit < r) {
-            r = float(hit);
-            inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
-          }
-        }
+      const double dist = std::hypot(dx, dy);
+      if (dist - cand.r >= td.range_max) continue;
+      const double near = dist - cand.r;
+      const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
+      if (!(half < kPi && td.incr > 0)) {
+        for (int s = 0; s < int(n); ++s) test(s, near);
+        continue;
+      }
+      const int last = int(n) - 1;
+      // Bearing from the first beam; the fan is centred on the heading.
+      const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
+      // The beams the robot's bearings span, and the same a turn either
+      // way: a robot behind a wide fan, or close behind any fan, spans
+      // beams at both of its ends.
+      for (int k = -1; k <= 1; ++k) {
+        const double at = rel + k * 2 * kPi;
+        const int lo = std::max(0, index_at(std::ceil((at - half) / td.incr), 0, last));
+        const int hi = std::min(last, index_at(std::floor((at + half) / td.incr), 0, last));
+        for (int s = lo; s <= hi; ++s) test(s, near);
       }
     }
   }
