@@ -88,6 +88,9 @@ struct RangerState {
   bool wanted = false;
   bool any_noise_angle = false;
   uint64_t step = UINT64_MAX;
+  // Robots within reach at its last update: chooses how its beams find
+  // robots (ranger.cc); the results do not depend on it.
+  uint32_t robots_near = 0;
 };
 
 struct BlobState {

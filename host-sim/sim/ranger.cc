@@ -311,18 +311,21 @@ void Engine::update_ranger(uint32_t index) {
   // Robots in the beams. The candidates' cost grows with the robots within
   // the ranger's reach times its transducers (each robot is placed among
   // each transducer's beams), the layer's with its beams: the layer pays off
-  // from about this many robots per beam of a transducer (counted by the
-  // hash's cells, which may list a few more), measured on the crowd, packed
-  // and cave rows. It finds the robots first, so the walls are cast only up
-  // to them.
+  // from about this many robots per beam of a transducer, measured on the
+  // crowd, packed and cave rows. The robots are those counted at the
+  // ranger's last update (robots move little in a step), so the common case
+  // of few robots pays nothing to choose. The layer finds the robots first,
+  // so the walls are cast only up to them.
   constexpr size_t kLayerFrom = 24;
   const bool layer = ranger_robots == World::RangerRobots::Layer ||
                      (ranger_robots == World::RangerRobots::Auto &&
-                      hash.count_items({self.pose.x, self.pose.y}, rs.reach) * rs.transducer_count >=
-                          kLayerFrom * rs.beam_count);
+                      size_t(rs.robots_near) * rs.transducer_count >= kLayerFrom * rs.beam_count);
   if (layer) {
     self_robot = rs.robot;
     layer_hits_first();
+    // Counted by the hash's cells (a few more than the candidates' circles
+    // would keep, which favours staying with the layer).
+    rs.robots_near = uint32_t(hash.count_items({self.pose.x, self.pose.y}, rs.reach));
   }
   map.cast_batch(ray_queries, StaticMap::kRangerMask, out);
   const bool one_static = statics.size() == 1;
@@ -345,6 +348,7 @@ void Engine::update_ranger(uint32_t index) {
     beams_meet_every(rs, out, inten);
   } else {
     beams_meet_candidates(rs, out, inten);
+    rs.robots_near = uint32_t(ranger_candidates.size());
   }
 
   // Noise on returns, then the sensor's limits.
