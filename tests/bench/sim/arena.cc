@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -133,7 +132,7 @@ sim::RobotDesc ring_robot(const std::string& name, const sim::Pose& pose, const 
   return r;
 }
 
-std::string ring_robot_define(const std::string& name, double side) {
+std::string ring_robot_define() {
   std::string s = "define ring12 ranger (\n";
   for (int i = 0; i < 12; ++i) {
     const double a = i * 30.0, rad = a * sim::kPi / 180;
@@ -144,13 +143,8 @@ std::string ring_robot_define(const std::string& name, double side) {
     s += line;
   }
   s += ")\n";
-  char robot[200];
-  std::snprintf(
-      robot, sizeof robot,
-      "define %s position ( size [ %.3f %.3f 0.2 ] velocity_bounds [ -0.5 0.5 0 0 0 0 -90 90 ] ring12 "
-      "( ) )\n",
-      name.c_str(), side, side);
-  s += robot;
+  s += "define smallbot position ( size [ 0.25 0.25 0.2 ] velocity_bounds [ -0.5 0.5 0 0 0 0 -90 90 ] ring12 "
+       "( ) )\n";
   return s;
 }
 

@@ -26,9 +26,8 @@ std::vector<sim::Pose> place(const world::GrayImage& map, double m_per_px, size_
 /// 30 degrees), driven by `ctrl`.
 sim::RobotDesc ring_robot(const std::string& name, const sim::Pose& pose, const std::string& ctrl);
 
-/// The same robot as world-file text (a define named `name`, a `side` m
-/// square body), for worlds written to disk.
-std::string ring_robot_define(const std::string& name = "smallbot", double side = 0.25);
+/// The same robot as world-file text (a define), for worlds written to disk.
+std::string ring_robot_define();
 
 /// A scratch folder, removed on destruction.
 class Scratch {

@@ -164,38 +164,14 @@ bool row_crowd(const Settings& s, Summary& out) {
 
 bool row_packed(const Settings& s, Summary& out) {
   out = {"packed 1000", "1,000 robots 0.25 m apart in one block, 12-beam 2 m rangers", 0, 0, 0, 0, 30};
-  // Stage's own 1,000-robot benchmark start: the crowd row's robots and
-  // sensors, packed in a 40 x 25 block at 0.25 m centre to centre, so every
-  // beam has a few hundred robots within its reach. The bodies are 0.2 m
-  // (0.25 m squares would touch and none could move) and face along the
-  // axes, so neighbours start 0.05 m apart; the block stands in a walled
-  // 24 x 16 m hall.
-  constexpr int kCols = 40, kRows = 25;
-  constexpr double kPitch = 0.25;
-  Scratch dir;
-  std::string text = "resolution 0.02\ninterval_sim 100\n" + ring_robot_define("packbot", 0.2);
-  text +=
-      "model ( name \"north\" size [24 0.2 1] pose [0 8 0 0] )\n"
-      "model ( name \"south\" size [24 0.2 1] pose [0 -8 0 0] )\n"
-      "model ( name \"east\" size [0.2 16 1] pose [12 0 0 0] )\n"
-      "model ( name \"west\" size [0.2 16 1] pose [-12 0 0 0] )\n";
-  std::mt19937_64 rng(17);
-  for (int y = 0; y < kRows; ++y) {
-    for (int x = 0; x < kCols; ++x) {
-      char line[200];
-      std::snprintf(line, sizeof line,
-                    "packbot ( name \"r%d\" pose [ %.3f %.3f 0 %d ] ctrl \"wander avoid=0.4\" )\n",
-                    y * kCols + x, (x - 0.5 * (kCols - 1)) * kPitch, (y - 0.5 * (kRows - 1)) * kPitch,
-                    int(rng() % 4) * 90);
-      text += line;
-    }
-  }
-  const std::string path = dir.write("packed.world", text);
-  // The load is part of the figure the issue sets the target on: a run of a
-  // minute of simulated time, from reading the file to the last step.
+  // Stage's own 1,000-robot benchmark start (examples/worlds/packed_world.py
+  // writes it): the crowd row's sensors, packed so every beam has a few
+  // hundred robots within its reach. The load is part of the figure the
+  // issue sets the target on: a run of a minute of simulated time, from
+  // reading the file to the last step.
   const double c0 = cpu_s();
   ControllerHost host;
-  auto w = load(path, host);
+  auto w = load(std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/packed1000.world", host);
   if (!w) return false;
   const double load_cpu = cpu_s() - c0;
   std::printf("== packed: %zu robots; world loaded in %.2f CPU s; engine holds %.1f MB\n", w->robot_count(),
