@@ -63,9 +63,17 @@ bool Engine::hits_static(RobotId i, const Pose& from, const Pose& to) {
 }
 
 bool Engine::overlaps_robot(RobotId i, const Pose& pi, RobotId j, const Pose& pj) {
+  bool have_own = false;
+  return meets_robot(i, pi, have_own, j, pj);
+}
+
+bool Engine::meets_robot(RobotId i, const Pose& pi, bool& have_own, RobotId j, const Pose& pj) {
   const double reach = bodies[i].radius + bodies[j].radius;
   if (std::hypot(pi.x - pj.x, pi.y - pj.y) > reach) return false;
-  outline(i, pi, scratch_verts, scratch_polys);
+  if (!have_own) {
+    outline(i, pi, scratch_verts, scratch_polys);
+    have_own = true;
+  }
   outline(j, pj, scratch_verts2, scratch_polys2);
   for (const PolyRef& a : scratch_polys) {
     for (const PolyRef& c : scratch_polys2) {
@@ -86,11 +94,15 @@ void Engine::collide() {
     if (!b.moved) continue;
     bool blocked = hits_static(i, b.pose, b.proposed);
     if (!blocked && b.obstacle) {
+      // Its own outline at the proposed pose is computed once, for the
+      // first neighbour near enough, and kept for the others (in a packed
+      // crowd, a handful).
+      bool have_own = false;
       hash.query(hash_centres[i], hash_radii[i], [&](uint32_t j) {
         if (blocked || j == i || !bodies[j].obstacle) return;
         const Body& o = bodies[j];
-        blocked = overlaps_robot(i, b.proposed, j, o.pose) ||
-                  (o.moved && overlaps_robot(i, b.proposed, j, o.proposed));
+        blocked = meets_robot(i, b.proposed, have_own, j, o.pose) ||
+                  (o.moved && meets_robot(i, b.proposed, have_own, j, o.proposed));
       });
     }
     accept[i] = blocked ? 0 : 1;

@@ -11,6 +11,7 @@
 #include "host-sim/sim/desc.h"
 #include "host-sim/sim/profile.h"
 #include "host-sim/sim/random.h"
+#include "host-sim/sim/robot_layer.h"
 #include "host-sim/sim/spatial_hash.h"
 #include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
@@ -87,6 +88,9 @@ struct RangerState {
   bool wanted = false;
   bool any_noise_angle = false;
   uint64_t step = UINT64_MAX;
+  // Robots within reach at its last update: chooses how its beams find
+  // robots (ranger.cc); the results do not depend on it.
+  uint32_t robots_near = 0;
 };
 
 struct BlobState {
@@ -178,6 +182,9 @@ struct Engine {
   void take_accepted_moves();
   bool hits_static(RobotId i, const Pose& from, const Pose& to);
   bool overlaps_robot(RobotId i, const Pose& pi, RobotId j, const Pose& pj);
+  /// The same, reusing robot i's outline at pi in scratch_verts and
+  /// scratch_polys when have_own says it is there (and setting it once it is).
+  bool meets_robot(RobotId i, const Pose& pi, bool& have_own, RobotId j, const Pose& pj);
   // ranger.cc
   void update_rangers();
   void update_ranger(uint32_t index);
@@ -185,6 +192,21 @@ struct Engine {
   void prefetch_rangers(const SpatialHash::Item& item) const;
   /// Distance along a ray to robot j's outline, m; negative when missed.
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
+  /// The same with the cosine and sine of its heading given (`turn`).
+  double ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const;
+  /// Lowers the ranges (m) of ranger `rs`'s beams, cast as ray_queries
+  /// with the walls' ranges in `out`, to the robots they meet first, and
+  /// sets those beams' intensities. Three ways to the same result: these
+  /// two, and the layer's below.
+  void beams_meet_candidates(const RangerState& rs, float* out, float* inten);
+  void beams_meet_every(const RangerState& rs, float* out, float* inten);
+  /// The layer's way, before the walls are cast: finds the robots each of
+  /// ray_queries meets first (robot_hits, beam_hits), not counting robot
+  /// self_robot, and shortens the queries to end just past them.
+  void layer_hits_first();
+  /// After the walls are cast (out, m): lowers the ranges to the robots
+  /// found first, and sets those beams' intensities.
+  void settle_layer_hits(float* out, float* inten);
   /// The static model owning the occupied cell at `p` (smallest box wins).
   const StaticInfo* static_at(Vec2 p) const;
   // detectors.cc
@@ -257,9 +279,35 @@ struct Engine {
   struct Candidate {
     uint32_t index;
     double x, y, r;  // a circle holding the robot this step, m
+    // The cosine and sine of its heading, once a beam first needs them
+    // (then every other beam reuses them): x is NaN before.
+    Vec2 turn;
   };
   std::vector<Candidate> ranger_candidates;
   std::vector<RayQuery> ray_queries;
+  World::RangerRobots ranger_robots = World::RangerRobots::Auto;
+  // The robots for rangers as a layer of cells (robot_layer.h), built at
+  // most once per update_rangers(), when a ranger first needs it; with the
+  // cosine and sine of each listed robot's heading (robot_turns), and per
+  // robot the last beam that tested it (robot_stamps: a robot listed in
+  // several cells is tested once per beam).
+  RobotLayer robot_layer;
+  bool robot_layer_fresh = false;
+  std::vector<Vec2> robot_turns;
+  std::vector<uint32_t> robot_stamps;
+  uint32_t beam_stamp = 0;
+  struct RobotHit {
+    uint32_t order;  // the robot's place in the hash's order
+    RobotId robot;
+    double t;  // m along the beam
+  };
+  std::vector<RobotHit> robot_hits;
+  // Beam b's hits: robot_hits[beam_hits[b] .. beam_hits[b + 1]).
+  std::vector<uint32_t> beam_hits;
+  // Beam b's end (m) when no wall can be before its robots, so it is not
+  // cast; 0 when it is.
+  std::vector<float> beam_ends;
+  RobotId self_robot = 0;  // the robot whose ranger layer_hits_first() casts for
   std::vector<float> wall_ranges;
   std::vector<Pose> transducer_poses;
   std::vector<Vec2> scratch_verts, scratch_verts2;

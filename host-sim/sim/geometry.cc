@@ -9,15 +9,21 @@ double ray_segment(Vec2 o, Vec2 d, Vec2 a, Vec2 b) {
   double den = cross(d, e);
   if (std::fabs(den) < 1e-15) return -1;  // parallel: a grazing ray does not stop on an edge
   Vec2 ao = a - o;
-  double t = cross(ao, e) / den;
-  double u = cross(ao, d) / den;
+  const double nt = cross(ao, e), nu = cross(ao, d);
+  // Most edges a ray is tested against it misses by far (behind it, or
+  // beside the edge's ends): settled on the numerators, without the two
+  // divisions, only where the quotients could not round back into range.
+  const double sign = den > 0 ? 1 : -1, mag = std::fabs(den), slack = 1e-12 * mag;
+  if (sign * nt < -slack || sign * nu < -slack || sign * nu > mag + slack) return -1;
+  double t = nt / den;
+  double u = nu / den;
   return (t >= 0 && u >= 0 && u <= 1) ? t : -1;
 }
 
 double ray_polygon(Vec2 o, Vec2 d, std::span<const Vec2> poly) {
   double best = -1;
   for (size_t i = 0, n = poly.size(); i < n; ++i) {
-    double t = ray_segment(o, d, poly[i], poly[(i + 1) % n]);
+    double t = ray_segment(o, d, poly[i], poly[i + 1 == n ? 0 : i + 1]);
     if (t >= 0 && (best < 0 || t < best)) best = t;
   }
   return best;

@@ -1,9 +1,15 @@
 // The ranger model (sonar rings, IR, lasers). Each beam is cast through the
-// static grid; then the robots near the sensor are tested only against the
-// beams their bounding circle can cross (an angular interval per robot), and
-// only where they could be nearer than the wall already found.
+// static grid; then the robots in its way lower its range. Two ways find
+// them, to the same result bit for bit. Where few robots stand within a
+// ranger's reach, each is tested only against the beams its bounding circle
+// can cross (an angular interval per robot), and only where it could be
+// nearer than the wall already found. In a crowd that is a few hundred
+// robots per ranger, so there each beam walks the per-step robot layer
+// instead (robot_layer.h), nearest cells first, and stops behind the first
+// robot it meets: its cost no longer grows with the robots around it.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "host-sim/sim/engine.h"
@@ -19,9 +25,14 @@ int index_at(double v, int lo, int hi) {
 }  // namespace
 
 double Engine::ray_robot(RobotId j, Vec2 origin, Vec2 dir) const {
+  const double a = bodies[j].pose.a;
+  return ray_robot(j, {std::cos(a), std::sin(a)}, origin, dir);
+}
+
+double Engine::ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const {
   const Body& b = bodies[j];
   // Into the robot's frame, where its outline is stored.
-  const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
+  const double c = turn.x, s = turn.y;
   const Vec2 d0{origin.x - b.pose.x, origin.y - b.pose.y};
   const Vec2 o{c * d0.x + s * d0.y, -s * d0.x + c * d0.y};
   const Vec2 d{c * dir.x + s * dir.y, -s * dir.x + c * dir.y};
@@ -64,12 +75,198 @@ void Engine::update_rangers() {
   // their latency overlaps the rays of the robots before them.
   constexpr size_t kAhead = 4;
   const std::span<const SpatialHash::Item> order = hash.order();
+  robot_layer_fresh = false;
   for (size_t n = 0; n < order.size(); ++n) {
     if (n + 2 * kAhead < order.size()) __builtin_prefetch(&robot_rangers[order[n + 2 * kAhead].index]);
     if (n + kAhead < order.size()) prefetch_rangers(order[n + kAhead]);
     const IndexRange r = robot_rangers[order[n].index];
     for (uint32_t k = r.first; k < r.first + r.count; ++k) {
       if (rangers[k].wanted) update_ranger(k);
+    }
+  }
+}
+
+void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* inten) {
+  // Robots that may cross a beam, tested only on the beams they can cross
+  // and only where they could be nearer than what the beam already hit.
+  // From the hash's copies of the robots' circles (which hold each robot
+  // over this step's move): no robot data is touched to filter.
+  ranger_candidates.clear();
+  const double sx = bodies[rs.robot].pose.x, sy = bodies[rs.robot].pose.y;
+  hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
+    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
+    const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
+    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
+      ranger_candidates.push_back({it.index, it.x, it.y, r, {std::numeric_limits<double>::quiet_NaN(), 0}});
+  });
+  for (uint32_t t = rs.transducer_first;
+       t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
+    const Transducer& td = transducers[t];
+    const uint32_t first = td.beam_offset, n = td.samples;
+    const Pose& org = transducer_poses[t - rs.transducer_first];
+    const Vec2 o{org.x, org.y};
+    for (Candidate& cand : ranger_candidates) {
+      const double dx = cand.x - o.x, dy = cand.y - o.y;
+      // Lowers beam s of the transducer to the robot, where it is nearer.
+      // Nearer than `near`, nothing of the robot is: beams that stopped at
+      // a wall before it cannot see it.
+      auto test = [&](int s, double near) {
+        const RayQuery& q = ray_queries[first + uint32_t(s)];
+        float& r = out[first + uint32_t(s)];
+        if (near >= r) return;
+        if (std::isnan(cand.turn.x)) {
+          const double a = bodies[cand.index].pose.a;
+          cand.turn = {std::cos(a), std::sin(a)};
+        }
+        const double hit = ray_robot(cand.index, cand.turn, q.origin, q.dir);
+        if (hit >= 0 && hit < r) {
+          r = float(hit);
+          inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
+        }
+      };
+      if (n == 1) {
+        // One beam: does it pass within the robot's circle, ahead of what it hit?
+        const Vec2 d = ray_queries[first].dir;
+        const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
+        if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
+        test(0, std::hypot(dx, dy) - cand.r);
+        continue;
+      }
+      const double dist = std::hypot(dx, dy);
+      if (dist - cand.r >= td.range_max) continue;
+      const double near = dist - cand.r;
+      const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
+      if (!(half < kPi && td.incr > 0)) {
+        for (int s = 0; s < int(n); ++s) test(s, near);
+        continue;
+      }
+      const int last = int(n) - 1;
+      // Bearing from the first beam; the fan is centred on the heading.
+      const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
+      // The beams the robot's bearings span, and the same a turn either
+      // way: a robot behind a wide fan, or close behind any fan, spans
+      // beams at both of its ends.
+      for (int k = -1; k <= 1; ++k) {
+        const double at = rel + k * 2 * kPi;
+        const int lo = std::max(0, index_at(std::ceil((at - half) / td.incr), 0, last));
+        const int hi = std::min(last, index_at(std::floor((at + half) / td.incr), 0, last));
+        for (int s = lo; s <= hi; ++s) test(s, near);
+      }
+    }
+  }
+}
+
+namespace {
+
+// How far (m) beyond the nearest robot hit a beam still looks: hits within a
+// float's rounding of each other are settled in the hash's order, as the
+// candidates' loop settles them, so every way gives the same float.
+double tie_margin(double t) {
+  return 1e-6 * std::max(1.0, t);
+}
+
+}  // namespace
+
+void Engine::layer_hits_first() {
+  if (!robot_layer_fresh) {
+    robot_layer.build(hash, kHashRangerVisible);
+    robot_turns.resize(bodies.size());
+    for (const SpatialHash::Item& it : hash.order()) {
+      const double a = bodies[it.index].pose.a;
+      robot_turns[it.index] = {std::cos(a), std::sin(a)};
+    }
+    robot_stamps.resize(bodies.size());
+    robot_layer_fresh = true;
+  }
+  robot_hits.clear();
+  beam_hits.clear();
+  beam_ends.clear();
+  Vec2 clear_at{std::numeric_limits<double>::quiet_NaN(), 0};
+  double clear = 0;  // m free of walls around clear_at
+  for (RayQuery& q : ray_queries) {
+    beam_hits.push_back(uint32_t(robot_hits.size()));
+    beam_ends.push_back(0);
+    if (++beam_stamp == 0) {  // wrapped: forget every stamp
+      std::fill(robot_stamps.begin(), robot_stamps.end(), 0u);
+      beam_stamp = 1;
+    }
+    const size_t first = robot_hits.size();
+    const double range = q.max_range;  // only hits below it count
+    double best = range, limit = range;
+    robot_layer.walk(q.origin, q.dir, range, [&](std::span<const RobotLayer::Entry> cell, double) {
+      for (const RobotLayer::Entry& e : cell) {
+        if (e.index == self_robot) continue;
+        const double dx = e.x - q.origin.x, dy = e.y - q.origin.y;
+        const double along = q.dir.x * dx + q.dir.y * dy, across = q.dir.x * dy - q.dir.y * dx;
+        if (std::fabs(across) > e.r || along + e.r < 0 || along - e.r >= limit) continue;
+        if (robot_stamps[e.index] == beam_stamp) continue;
+        robot_stamps[e.index] = beam_stamp;
+        const double hit = ray_robot(e.index, robot_turns[e.index], q.origin, q.dir);
+        if (hit < 0 || !(hit < range)) continue;
+        robot_hits.push_back({e.order, e.index, hit});
+        best = std::min(best, hit);
+        limit = std::min(range, best + tie_margin(best));
+      }
+      return limit;
+    });
+    if (robot_hits.size() == first) continue;
+    // Only the near ties matter: farther hits cannot be what the
+    // candidates' loop ends with.
+    size_t kept = first;
+    for (size_t h = first; h < robot_hits.size(); ++h) {
+      if (robot_hits[h].t <= limit) robot_hits[kept++] = robot_hits[h];
+    }
+    robot_hits.resize(kept);
+    // The walls matter only before the nearest robot: the cast stops a
+    // little beyond it (past every near tie), and finds any wall before
+    // that where the full cast would (the march is the same up to there).
+    const double reach = best + 3 * tie_margin(best);
+    if (reach >= range) continue;
+    // Nearer than the distance field's bound around the beam's origin, no
+    // wall is: the cast is not needed at all (its range 0 ends it at once),
+    // and its end is the beam's (a transducer's beams share their origin).
+    if (!(q.origin.x == clear_at.x && q.origin.y == clear_at.y)) {
+      clear_at = q.origin;
+      clear = map.clearance(q.origin);
+    }
+    if (reach < clear) {
+      beam_ends.back() = float(reach);
+      q.max_range = 0;
+    } else {
+      q.max_range = float(reach);
+    }
+  }
+  beam_hits.push_back(uint32_t(robot_hits.size()));
+}
+
+void Engine::settle_layer_hits(float* out, float* inten) {
+  for (uint32_t b = 0; b + 1 < beam_hits.size(); ++b) {
+    if (beam_ends[b] > 0) out[b] = beam_ends[b];  // not cast: no wall before this
+    const auto first = robot_hits.begin() + beam_hits[b], last = robot_hits.begin() + beam_hits[b + 1];
+    // Lowered in the hash's order, as the candidates' loop lowers them, from
+    // the wall's range (or, past the shortened cast's end, its end: beyond
+    // every near tie, as the full cast's wall is).
+    if (last - first > 1) {
+      std::sort(first, last, [](const RobotHit& x, const RobotHit& y) { return x.order < y.order; });
+    }
+    for (auto h = first; h != last; ++h) {
+      if (h->t < out[b]) {
+        out[b] = float(h->t);
+        inten[b] = bodies[h->robot].ranger_return;
+      }
+    }
+  }
+}
+
+void Engine::beams_meet_every(const RangerState& rs, float* out, float* inten) {
+  for (const SpatialHash::Item& it : hash.order()) {
+    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) continue;
+    for (uint32_t b = 0; b < rs.beam_count; ++b) {
+      const double hit = ray_robot(it.index, ray_queries[b].origin, ray_queries[b].dir);
+      if (hit >= 0 && hit < out[b]) {
+        out[b] = float(hit);
+        inten[b] = bodies[it.index].ranger_return;
+      }
     }
   }
 }
@@ -111,6 +308,25 @@ void Engine::update_ranger(uint32_t index) {
       dir = {c * dir.x - sn * dir.y, sn * dir.x + c * dir.y};
     }
   }
+  // Robots in the beams. The candidates' cost grows with the robots within
+  // the ranger's reach times its transducers (each robot is placed among
+  // each transducer's beams), the layer's with its beams: the layer pays off
+  // from about this many robots per beam of a transducer, measured on the
+  // crowd, packed and cave rows. The robots are those counted at the
+  // ranger's last update (robots move little in a step), so the common case
+  // of few robots pays nothing to choose. The layer finds the robots first,
+  // so the walls are cast only up to them.
+  constexpr size_t kLayerFrom = 24;
+  const bool layer = ranger_robots == World::RangerRobots::Layer ||
+                     (ranger_robots == World::RangerRobots::Auto &&
+                      size_t(rs.robots_near) * rs.transducer_count >= kLayerFrom * rs.beam_count);
+  if (layer) {
+    self_robot = rs.robot;
+    layer_hits_first();
+    // Counted by the hash's cells (a few more than the candidates' circles
+    // would keep, which favours staying with the layer).
+    rs.robots_near = uint32_t(hash.count_items({self.pose.x, self.pose.y}, rs.reach));
+  }
   map.cast_batch(ray_queries, StaticMap::kRangerMask, out);
   const bool one_static = statics.size() == 1;
   const float static_return = one_static ? float(std::max(0.0, statics[0].look.ranger_return)) : 1.0f;
@@ -126,64 +342,13 @@ void Engine::update_ranger(uint32_t index) {
     }
   }
 
-  // Robots that may cross a beam, tested only on the beams they can cross
-  // and only where they could be nearer than what the beam already hit.
-  // From the hash's copies of the robots' circles (which hold each robot
-  // over this step's move): no robot data is touched to filter.
-  ranger_candidates.clear();
-  const double sx = self.pose.x, sy = self.pose.y;
-  hash.query_items({sx, sy}, rs.reach, [&](const SpatialHash::Item& it) {
-    if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) return;
-    const double r = double(it.r) + 1e-3;  // covers the float rounding of the copy
-    if (std::hypot(it.x - sx, it.y - sy) <= rs.reach + r)
-      ranger_candidates.push_back({it.index, it.x, it.y, r});
-  });
-  for (uint32_t t = rs.transducer_first;
-       t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
-    const Transducer& td = transducers[t];
-    const uint32_t first = td.beam_offset, n = td.samples;
-    const Pose& org = transducer_poses[t - rs.transducer_first];
-    const Vec2 o{org.x, org.y};
-    for (const Candidate& cand : ranger_candidates) {
-      const double dx = cand.x - o.x, dy = cand.y - o.y;
-      int lo = 0, hi = int(n) - 1;
-      if (n == 1) {
-        // One beam: does it pass within the robot's circle, ahead of what it hit?
-        const Vec2 d = ray_queries[first].dir;
-        const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
-        if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
-      } else {
-        const double dist = std::hypot(dx, dy);
-        if (dist - cand.r >= td.range_max) continue;
-        const double half = (dist > cand.r ? std::asin(cand.r / dist) : kPi) + 0.5 * td.noise_angle;
-        if (half < kPi && td.incr > 0) {
-          const int last = int(n) - 1;
-          // Bearing from the first beam; the fan is centred on the heading.
-          const double rel = wrap_angle(std::atan2(dy, dx) - org.a) - td.start;
-          lo = std::max(0, index_at(std::ceil((rel - half) / td.incr), 0, last));
-          hi = std::min(last, index_at(std::floor((rel + half) / td.incr), 0, last));
-          // A fan reaching round behind the sensor: the other side of the seam.
-          if (lo > hi && td.incr * last > kPi) {
-            const double wrapped = rel < 0 ? rel + 2 * kPi : rel - 2 * kPi;
-            lo = std::max(0, index_at(std::ceil((wrapped - half) / td.incr), 0, last));
-            hi = std::min(last, index_at(std::floor((wrapped + half) / td.incr), 0, last));
-          }
-        }
-      }
-      // Nearer than this, nothing of the robot is: beams that stopped at a
-      // wall before it cannot see it.
-      const double near = std::hypot(dx, dy) - cand.r;
-      for (int s = lo; s <= hi; ++s) {
-        const RayQuery& q = ray_queries[first + uint32_t(s)];
-        float& r = out[first + uint32_t(s)];
-        if (near >= r) continue;
-        const double hit = ray_robot(cand.index, q.origin, q.dir);
-        if (hit >= 0 && hit < r) {
-          r = float(hit);
-          inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;
-        }
-      }
-    }
+  if (layer) {
+    settle_layer_hits(out, inten);
+  } else if (ranger_robots == World::RangerRobots::Every) {
+    beams_meet_every(rs, out, inten);
+  } else {
+    beams_meet_candidates(rs, out, inten);
+    rs.robots_near = uint32_t(ranger_candidates.size());
   }
 
   // Noise on returns, then the sensor's limits.

@@ -43,14 +43,17 @@ class SpatialHash {
   /// The same, visiting the items (index, flags, circle).
   template <class Visit>
   void query_items(Vec2 c, double r, Visit&& visit) const {
-    const double reach = r + max_radius_;
-    int x0 = cell_x(c.x - reach), x1 = cell_x(c.x + reach);
-    int y0 = cell_y(c.y - reach), y1 = cell_y(c.y + reach);
-    for (int y = y0; y <= y1; ++y) {
-      const uint32_t* row = &start_[size_t(y) * size_t(nx_)];
-      uint32_t begin = row[x0], end = row[x1 + 1];
+    rows(c, r, [&](uint32_t begin, uint32_t end) {
       for (uint32_t i = begin; i < end; ++i) visit(items_[i]);
-    }
+    });
+  }
+
+  /// How many robots query_items(c, r) would visit, counted from the
+  /// cells' bounds alone (one read per row of cells, no robot touched).
+  size_t count_items(Vec2 c, double r) const {
+    size_t n = 0;
+    rows(c, r, [&](uint32_t begin, uint32_t end) { n += end - begin; });
+    return n;
   }
 
   /// Every robot in the hash, cell by cell (row-major): an order in which
@@ -63,6 +66,17 @@ class SpatialHash {
   }
 
  private:
+  // Calls row(begin, end) with the range of items_ of each row of cells
+  // that the circle (c, r), widened by the largest radius, overlaps.
+  template <class Row>
+  void rows(Vec2 c, double r, Row&& row) const {
+    const double reach = r + max_radius_;
+    const int x0 = cell_x(c.x - reach), x1 = cell_x(c.x + reach);
+    for (int y = cell_y(c.y - reach), y1 = cell_y(c.y + reach); y <= y1; ++y) {
+      const uint32_t* cells = &start_[size_t(y) * size_t(nx_)];
+      row(cells[x0], cells[x1 + 1]);
+    }
+  }
   int cell_x(double x) const { return std::clamp(int(std::floor((x - lo_.x) * inv_cell_)), 0, nx_ - 1); }
   int cell_y(double y) const { return std::clamp(int(std::floor((y - lo_.y) * inv_cell_)), 0, ny_ - 1); }
 

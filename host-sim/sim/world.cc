@@ -343,10 +343,14 @@ void World::set_raycast_per_cell(bool on) {
   e_->map.set_per_cell(on);
 }
 
+void World::set_ranger_robots(RangerRobots how) {
+  e_->ranger_robots = how;
+}
+
 size_t World::memory_bytes() const {
   const Engine& e = *e_;
-  return e.map.memory_bytes() + e.hash.memory_bytes() + e.bodies.capacity() * sizeof(Body) +
-         e.verts.capacity() * sizeof(Vec2) + e.ranges.capacity() * 8 +
+  return e.map.memory_bytes() + e.hash.memory_bytes() + e.robot_layer.memory_bytes() +
+         e.bodies.capacity() * sizeof(Body) + e.verts.capacity() * sizeof(Vec2) + e.ranges.capacity() * 8 +
          e.transducers.capacity() * sizeof(Transducer);
 }
 

@@ -288,6 +288,15 @@ class World {
   /// Benchmarks only: cast every ray cell by cell (the baseline the
   /// distance-field marching is measured against). Results are the same.
   void set_raycast_per_cell(bool on);
+  /// How rangers find the robots in their beams. Tests and benchmarks only:
+  /// every choice gives the same ranges and intensities, bit for bit.
+  enum class RangerRobots {
+    Auto,        // by how many robots stand within the ranger's reach
+    Candidates,  // each nearby robot against the beams its circle spans
+    Layer,       // each beam through the per-step robot layer (robot_layer.h)
+    Every,       // every robot against every beam: the plain reference
+  };
+  void set_ranger_robots(RangerRobots how);
 
  private:
   std::unique_ptr<Engine> e_;

@@ -29,6 +29,7 @@ struct Summary {
 /// Each returns false when it cannot run (missing data), after saying why.
 bool row_simple(const Settings& s, Summary& out);
 bool row_crowd(const Settings& s, Summary& out);
+bool row_packed(const Settings& s, Summary& out);
 bool row_cave(const Settings& s, Summary& out);
 bool row_scale(const Settings& s, Summary& out);
 bool row_rays(const Settings& s, Summary& out);
