@@ -33,6 +33,7 @@ uint8_t code_of(uint8_t bits) {
 void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
   res_ = resolution;
   inv_res_ = 1.0 / resolution;
+  has_obstacles_ = false;
   origin_ = lo;
   w_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_res_)));
   h_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_res_)));
@@ -49,6 +50,7 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
 void StaticMap::mark(size_t i, bool obstacle, bool visible) {
   uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
   if (add == 0) return;
+  has_obstacles_ = has_obstacles_ || obstacle;
   codes_[i] = code_of(uint8_t(bits_of(codes_[i]) | add));
 }
 

@@ -108,6 +108,9 @@ class StaticMap {
   Vec2 origin() const { return origin_; }
   uint8_t code(int ix, int iy) const { return codes_[index(ix, iy)]; }
   bool occupied(int ix, int iy) const { return code(ix, iy) <= kBarrier; }
+  /// Some cell is an obstacle (a world whose walls are all rigid bodies
+  /// has none: its moves need no test against the grid).
+  bool has_obstacles() const { return has_obstacles_; }
   /// Bytes held.
   size_t memory_bytes() const { return codes_.capacity() + coarse_.capacity(); }
 
@@ -130,6 +133,7 @@ class StaticMap {
   int blocks_w_ = 1;  // blocks per row of blocks
   bool use_coarse_ = false;
   bool per_cell_ = false;
+  bool has_obstacles_ = false;
 };
 
 }  // namespace troupe::sim
