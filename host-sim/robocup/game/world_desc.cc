@@ -56,6 +56,17 @@ sim::RobotDesc body(const std::string& name, Pose2 at, const std::vector<Shape>&
   return r;
 }
 
+// A robot's Stage sensor models, their cameras stacked on its height (m).
+void add_sensors(const sim::RobotDesc& from, double height, sim::RobotDesc& to) {
+  to.rangers = from.rangers;
+  to.blobfinders = from.blobfinders;
+  to.fiducials = from.fiducials;
+  to.bumpers = from.bumpers;
+  to.grippers = from.grippers;
+  to.cameras = from.cameras;
+  for (sim::CameraDesc& c : to.cameras) c.z += height;
+}
+
 }  // namespace
 
 std::vector<Shape> robot_shapes(const RobotSpec& spec, int kicker_state) {
@@ -142,8 +153,10 @@ sim::WorldDesc world_desc(const WorldSpec& spec, const FieldColors& colors) {
     rigid.shapes = robot_shapes(e.spec, 0);
     rigid.inertia = e.spec.inertia;
     rigid.user_data = make_user_data(kRobotTag, uint32_t(k));
-    w.robots.push_back(body(e.name, e.start, e.spec.shapes, top_of(e.spec.shapes, 0.6), colors.robot,
-                            e.spec.mass, std::move(rigid)));
+    const double height = top_of(e.spec.shapes, 0.6);
+    w.robots.push_back(
+        body(e.name, e.start, e.spec.shapes, height, colors.robot, e.spec.mass, std::move(rigid)));
+    if (e.stage_sensors) add_sensors(*e.stage_sensors, height, w.robots.back());
   }
   return w;
 }
