@@ -92,11 +92,12 @@ class Simulation final : public WorldControl {
   BodyId robot_body(int robot) const;
   const WorldSpec& spec() const { return spec_; }
   /// Wall-clock time of each phase of the cycle, over every cycle so far
-  /// and the latest one; physics().profile() splits the physics phase.
+  /// and the latest one; engine().profile() splits the physics phase.
   const sim::Profile& profile() const { return profile_; }
   sim::Profile& profile() { return profile_; }
-  /// What `--profile` prints: the cycle's table, then the physics step's
-  /// (Profile::table() format, the Stage engine's too).
+  /// What `--profile` prints: the cycle's table, then the engine's step's
+  /// (the physics phase), then the rigid-body step's (inside the engine's
+  /// integrate phase), each in Profile::table() format.
   std::string profile_table() const;
 
   // ---- WorldView / WorldControl ----------------------------------------------
