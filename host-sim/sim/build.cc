@@ -124,7 +124,7 @@ void Engine::build_statics() {
     lo = {-res, -res};
     hi = {res, res};
   }
-  map.reset(lo - Vec2{2 * res, 2 * res}, hi + Vec2{2 * res, 2 * res}, res);
+  map.reset(lo - Vec2{2 * res, 2 * res}, hi + Vec2{2 * res, 2 * res}, res, desc.map_storage);
   for (size_t k = 0; k < desc.statics.size(); ++k) {
     const StaticDesc& s = desc.statics[k];
     const Pose& frame = frames[k];

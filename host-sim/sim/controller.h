@@ -8,11 +8,23 @@
 //   TROUPE_CONTROLLER("wander", make_wander)
 // `args` is the rest of the ctrl string ("wander speed=0.3" gives
 // "speed=0.3"); the factory returns nullptr when the arguments are bad.
+//
+// What a controller remembers from one step to the next lives in memory the
+// World owns (memory_size(), RobotHandle::memory()), not in the controller
+// object: the World can then hand a robot, with its memory, to a fresh
+// controller instance (another process of a distributed run, a reloaded
+// controller) and the robot carries on as if nothing happened. The object
+// keeps only what init() derives from its arguments and the robot's
+// description, which a fresh instance derives again.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <span>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "host-sim/plugin/plugin_abi.h"
@@ -58,14 +70,35 @@ class RobotHandle {
   virtual uint32_t gripper_count() const = 0;
   virtual GripperView gripper(uint32_t k) const = 0;
   virtual void set_gripper(uint32_t k, bool closed) = 0;
+
+  /// The robot's controller memory: Controller::memory_size() bytes, all
+  /// zero at the start and after a reset, aligned for any scalar type
+  /// (alignof(std::max_align_t)).
+  virtual std::span<std::byte> memory() = 0;
+
+  /// That memory as the controller's state struct, which must be trivially
+  /// copyable (the World moves it as bytes) and have all-zero bytes as its
+  /// initial state.
+  template <class T>
+  T& memory_as() {
+    static_assert(std::is_trivially_copyable_v<T>, "controller memory is moved as bytes");
+    static_assert(alignof(T) <= alignof(std::max_align_t));
+    const std::span<std::byte> m = memory();
+    if (m.size() < sizeof(T)) throw std::logic_error("controller memory is smaller than its state");
+    return *reinterpret_cast<T*>(m.data());
+  }
 };
 
 class Controller {
  public:
   virtual ~Controller() = default;
-  /// Once, before the first step: say which sensors to compute. False with
-  /// `error` refuses the robot (e.g. it lacks the sensor the controller
-  /// needs).
+  /// Bytes of memory the World keeps for this controller's robot
+  /// (RobotHandle::memory()); asked once, before init().
+  virtual size_t memory_size() const { return 0; }
+  /// Once per instance, before its first update: say which sensors to
+  /// compute. False with `error` refuses the robot (e.g. it lacks the
+  /// sensor the controller needs). It must not write the robot's memory:
+  /// a robot handed to a fresh instance keeps what it remembered.
   virtual bool init(RobotHandle& robot, std::string& error) = 0;
   /// Every step, before the world steps: read sensors, send a command.
   virtual void update(RobotHandle& robot) = 0;
@@ -74,7 +107,8 @@ class Controller {
 /// The version of the Controller and RobotHandle interfaces
 /// (TroupePluginInfo::interface_version).
 /// 2: RobotHandle's grippers.
-inline constexpr uint32_t kControllerInterfaceVersion = 2;
+/// 3: the robot's controller memory (memory_size, RobotHandle::memory).
+inline constexpr uint32_t kControllerInterfaceVersion = 3;
 
 /// The plugin description of a controller made by `Create`.
 template <Controller* (*Create)(const char* args)>

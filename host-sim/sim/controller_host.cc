@@ -44,6 +44,7 @@ class WorldRobot final : public RobotHandle {
   uint32_t gripper_count() const override { return w_.robot(id_).grippers.count; }
   GripperView gripper(uint32_t k) const override { return w_.gripper(gripper_index(k)); }
   void set_gripper(uint32_t k, bool closed) override { w_.set_gripper(gripper_index(k), closed); }
+  std::span<std::byte> memory() override { return w_.controller_memory(id_); }
 
  private:
   IndexRange range(SensorKind kind) const {
@@ -128,6 +129,10 @@ bool ControllerHost::attach(World& world, RobotId robot, std::unique_ptr<Control
 
 bool ControllerHost::attach(World& world, RobotId robot, plugin::Instance<Controller> controller,
                             std::string& error) {
+  // A robot that already has memory of this size keeps it: a fresh
+  // instance takes over where the last one left off.
+  const size_t bytes = controller->memory_size();
+  if (world.controller_memory(robot).size() != bytes) world.set_controller_memory_size(robot, bytes);
   WorldRobot handle(world, robot);
   if (!controller->init(handle, error)) return false;
   entries_.push_back({robot, std::move(controller)});

@@ -319,8 +319,17 @@ struct FloorDesc {
 /// The colour of the floor at world point p (m).
 uint32_t floor_color(const FloorDesc& floor, Vec2 p);
 
+/// How the static map keeps its cells (StaticMap::reset). Dense: every
+/// cell, a byte each. Sparse: only the 8 x 8 blocks that hold or border an
+/// obstacle; every other block is one shared block of its distance code, so
+/// a campus-sized floorplan costs what its walls cost, not what its area
+/// does. Both give the same rays, collisions and sensors. Auto: sparse from
+/// StaticMap::kSparseFromCells cells on; tests and benchmarks may force one.
+enum class MapStorage : uint8_t { Auto, Dense, Sparse };
+
 struct WorldDesc {
   Physics physics = Physics::Kinematic;
+  MapStorage map_storage = MapStorage::Auto;
   /// Obstacle grid cell size, m.
   double resolution = 0.02;
   /// Simulated time per step, s.

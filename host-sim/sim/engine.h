@@ -250,6 +250,10 @@ struct Engine {
   std::vector<CameraState> cameras;
   std::vector<GripperState> grippers;
   std::vector<StaticInfo> statics;
+  /// Each robot's controller memory. Bytes from operator new, which aligns
+  /// them for any scalar type (asserted in world.cc), so a controller may
+  /// keep any trivially copyable struct there.
+  std::vector<std::vector<std::byte>> controller_memory;
 
   // Scratch, reused every step so the step does not allocate.
   std::vector<Vec2> hash_centres;

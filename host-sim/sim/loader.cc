@@ -5,6 +5,7 @@
 #include <map>
 
 #include "host-sim/sim/loader_internal.h"
+#include "host-sim/sim/static_map.h"
 #include "host-sim/world/png_image.h"
 
 namespace troupe::sim {
@@ -48,9 +49,6 @@ constexpr const char* kViewerKeys[] = {
     "say",          "gripper_return", "update_interval", "watts_give",     "watts_take",   "give_watts",
     "take_watts",   "charging_bump",  "interval",
 };
-
-// Cells the obstacle grid may have (a byte each).
-constexpr double kMaxGridCells = 1.5e9;
 
 }  // namespace
 
@@ -340,11 +338,12 @@ void Loader::check_grid_size(const Entity& w, const WorldDesc& out) {
   if (out.statics.empty()) return;
   // The grid is stored in blocks of 8 x 8 cells: up to 7 more each way.
   const double cells = ((hi.x - lo.x) / out.resolution + 12) * ((hi.y - lo.y) / out.resolution + 12);
-  if (cells > kMaxGridCells) {
+  if (cells > double(StaticMap::kMaxCells)) {
     const Property* res = w.find("resolution");
-    diags().error(res ? res->loc : w.loc, "the obstacle grid would need " + std::to_string(int64_t(cells)) +
-                                              " cells at resolution " + std::to_string(out.resolution) +
-                                              " m; use a coarser resolution or smaller models");
+    diags().error(res ? res->loc : w.loc,
+                  "the obstacle grid would need " + std::to_string(int64_t(cells)) + " cells at resolution " +
+                      std::to_string(out.resolution) + " m, more than even a sparse grid holds (" +
+                      std::to_string(StaticMap::kMaxCells) + "); use a coarser resolution or smaller models");
   }
 }
 

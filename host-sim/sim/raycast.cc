@@ -21,6 +21,10 @@ namespace detail {
 // (a code per block) may be null: then it is not used.
 void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
                      double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out);
+// The same on a sparse map: `slots` is its block table, `coarse` never null.
+void cast_batch_avx2_sparse(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w,
+                            int w, int h, Vec2 origin, double inv_res, double res,
+                            std::span<const RayQuery> rays, uint8_t mask, float* out);
 }  // namespace detail
 
 namespace {
@@ -90,6 +94,10 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
   // FMA, which every AVX2 processor but a few early ones has).
   static const bool kAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   if (kAvx2) {
+    if (sparse()) {
+      return detail::cast_batch_avx2_sparse(codes_.data(), coarse_.data(), slots_.data(), blocks_w_, w_, h_,
+                                            origin_, inv_res_, res_, rays, mask, out);
+    }
     return detail::cast_batch_avx2(codes_.data(), use_coarse_ ? coarse_.data() : nullptr, blocks_w_, w_, h_,
                                    origin_, inv_res_, res_, rays, mask, out);
   }

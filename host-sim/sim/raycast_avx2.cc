@@ -3,8 +3,11 @@
 // gather; a far-from-obstacles cell gives its march step, a near one the
 // step to the next cell boundary plus a hair). On a large map a lane first
 // reads its block's code in the small coarse level and reads the map only
-// when the block is near an obstacle. Built with -mavx2 -mfma and used only
-// when the processor has both (StaticMap::cast_batch checks).
+// when the block is near an obstacle; on a sparse map it then finds the
+// block's cells through the block table, one gather more for those lanes
+// only (a template argument: the dense map's loop is as it was). Built with
+// -mavx2 -mfma and used only when the processor has both
+// (StaticMap::cast_batch checks).
 //
 // Doubles throughout: the hair (1e-6 cell) must move a position across a
 // cell boundary even 100,000 cells from the grid's corner.
@@ -23,10 +26,11 @@ constexpr double kEdgeMargin = 1e-3;
 constexpr uint8_t kMarchFrom = StaticMap::kFreeBase + 3;  // march when >= 3 cells clear
 constexpr int kShift = StaticMap::kTileShift;
 constexpr int kLow = StaticMap::kTile - 1;  // a cell's place in its block
-}  // namespace
 
-void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
-                     double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out) {
+template <bool kSparse>
+void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w, int w,
+                int h, Vec2 origin, double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask,
+                float* out) {
   constexpr int kGroups = 4;  // groups of four rays: their chains overlap (3 or 5: slower)
   constexpr int kLanes = 4 * kGroups;
   alignas(32) double ox[kLanes], oy[kLanes], dx[kLanes], dy[kLanes], inv_x[kLanes], inv_y[kLanes];
@@ -40,7 +44,8 @@ void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, 
   auto step_code = [&](size_t x, size_t y) {
     const size_t block = (y >> kShift) * size_t(blocks_w) + (x >> kShift);
     if (coarse && coarse[block] >= kMarchFrom) return coarse[block];
-    return codes[(block << (2 * kShift)) + ((y & kLow) << kShift) + (x & kLow)];
+    const size_t stored = kSparse ? size_t(slots[block]) : block;
+    return codes[(stored << (2 * kShift)) + ((y & kLow) << kShift) + (x & kLow)];
   };
 
   // Loads the next ray that clipping does not settle into lane k, or parks
@@ -109,6 +114,7 @@ void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, 
   const __m256d hair = _mm256_set1_pd(kHair), slack = _mm256_set1_pd(StaticMap::kFreeBase + 1.5);
   const int* base = reinterpret_cast<const int*>(codes);
   const int* coarse_base = reinterpret_cast<const int*>(coarse);
+  const int* slots_base = reinterpret_cast<const int*>(slots);
   const __m128i blocks_width = _mm_set1_epi32(blocks_w), march_from = _mm_set1_epi32(kMarchFrom);
   struct Group {
     __m256d ox, oy, dx, dy, ix, iy, wx, wy, t, te, bx, by, live;
@@ -145,18 +151,29 @@ void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, 
     // The cell's place: its block, then its row and column in the block.
     const __m128i block =
         _mm_add_epi32(_mm_mullo_epi32(_mm_srli_epi32(iy, kShift), blocks_width), _mm_srli_epi32(ix, kShift));
-    const __m128i cell =
-        _mm_add_epi32(_mm_slli_epi32(block, 2 * kShift),
-                      _mm_add_epi32(_mm_slli_epi32(_mm_and_si128(iy, low), kShift), _mm_and_si128(ix, low)));
+    const __m128i inner =
+        _mm_add_epi32(_mm_slli_epi32(_mm_and_si128(iy, low), kShift), _mm_and_si128(ix, low));
     __m128i c;
-    if (coarse) {
-      // Lanes whose block is clear march on the block's code; only the
-      // others read the map (a masked gather loads nothing for the rest).
+    if constexpr (kSparse) {
+      // As below, but a near lane's cells are where its block's table
+      // entry says: 64-bit offsets, since the pool may pass 2 GiB.
       const __m128i b = _mm_and_si128(_mm_i32gather_epi32(coarse_base, block, 1), byte);
       const __m128i near = _mm_cmplt_epi32(b, march_from);
-      c = _mm_and_si128(_mm_mask_i32gather_epi32(b, base, cell, near, 1), byte);
+      const __m128i slot = _mm_mask_i32gather_epi32(_mm_setzero_si128(), slots_base, block, near, 4);
+      const __m256i at = _mm256_add_epi64(_mm256_slli_epi64(_mm256_cvtepu32_epi64(slot), 2 * kShift),
+                                          _mm256_cvtepu32_epi64(inner));
+      c = _mm_and_si128(_mm256_mask_i64gather_epi32(b, base, at, near, 1), byte);
     } else {
-      c = _mm_and_si128(_mm_i32gather_epi32(base, cell, 1), byte);
+      const __m128i cell = _mm_add_epi32(_mm_slli_epi32(block, 2 * kShift), inner);
+      if (coarse) {
+        // Lanes whose block is clear march on the block's code; only the
+        // others read the map (a masked gather loads nothing for the rest).
+        const __m128i b = _mm_and_si128(_mm_i32gather_epi32(coarse_base, block, 1), byte);
+        const __m128i near = _mm_cmplt_epi32(b, march_from);
+        c = _mm_and_si128(_mm_mask_i32gather_epi32(b, base, cell, near, 1), byte);
+      } else {
+        c = _mm_and_si128(_mm_i32gather_epi32(base, cell, 1), byte);
+      }
     }
     const __m256d cf = _mm256_cvtepi32_pd(c);
     // Hit: an occupied code (0..2) whose bit is in the mask. The two common
@@ -219,6 +236,19 @@ void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, 
       if (!start(k)) --active;
     }
   }
+}
+
+}  // namespace
+
+void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
+                     double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out) {
+  cast_lanes<false>(codes, coarse, nullptr, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
+}
+
+void cast_batch_avx2_sparse(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w,
+                            int w, int h, Vec2 origin, double inv_res, double res,
+                            std::span<const RayQuery> rays, uint8_t mask, float* out) {
+  cast_lanes<true>(codes, coarse, slots, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
 }
 
 }  // namespace troupe::sim::detail

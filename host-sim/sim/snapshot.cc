@@ -91,6 +91,10 @@ world::RgbImage render(const World& w, const SnapshotOptions& opt) {
   // Obstacles: each occupied cell paints the pixels it covers (at least one).
   for (int iy = 0; iy < map.height(); ++iy) {
     for (int ix = 0; ix < map.width(); ++ix) {
+      if (ix % StaticMap::kTile == 0 && map.block_free(ix / StaticMap::kTile, iy / StaticMap::kTile)) {
+        ix += StaticMap::kTile - 1;  // the whole block is free
+        continue;
+      }
       if (!map.occupied(ix, iy)) continue;
       const double x = map.origin().x + ix * res, y = map.origin().y + iy * res;
       const uint32_t col = map.code(ix, iy) == StaticMap::kBarrier ? 0x9090C0 : 0x404040;

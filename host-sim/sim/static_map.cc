@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "host-sim/sim/row_distance.h"
+
 namespace troupe::sim {
 namespace {
 
@@ -30,7 +32,16 @@ uint8_t code_of(uint8_t bits) {
 
 }  // namespace
 
-void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
+uint8_t StaticMap::distance_code(double d2) {
+  const double d = std::floor(std::sqrt(d2) + 1e-9);
+  return uint8_t(kFreeBase + std::min(d, 253.0));
+}
+
+uint8_t StaticMap::combined(uint8_t code, uint8_t add) {
+  return add == 0 ? code : code_of(uint8_t(bits_of(code) | add));
+}
+
+void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage) {
   res_ = resolution;
   inv_res_ = 1.0 / resolution;
   has_obstacles_ = false;
@@ -41,20 +52,44 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution) {
   // reached), and four bytes more: the vector caster reads a cell as the
   // low byte of a 32-bit load.
   blocks_w_ = (w_ + kTile - 1) >> kTileShift;
-  const size_t blocks_h = size_t((h_ + kTile - 1) >> kTileShift);
-  codes_.assign((size_t(blocks_w_) * blocks_h << (2 * kTileShift)) + 4, kFree);
+  blocks_h_ = (h_ + kTile - 1) >> kTileShift;
+  const size_t blocks = size_t(blocks_w_) * size_t(blocks_h_);
+  constexpr size_t kBlockCells = size_t(1) << (2 * kTileShift);
+  // A dense map's cells are found by 32-bit offsets: beyond 2^30 cells it
+  // is sparse whatever was asked.
+  const bool sparse = storage == MapStorage::Sparse ||
+                      (storage == MapStorage::Auto && blocks * kBlockCells >= kSparseFromCells) ||
+                      blocks * kBlockCells > (size_t(1) << 30);
   coarse_.clear();
+  free_slots_.clear();
   use_coarse_ = false;
+  if (!sparse) {
+    slots_.clear();
+    codes_.assign((blocks << (2 * kTileShift)) + 4, kFree);
+    return;
+  }
+  // Every block starts as the uniform free block.
+  slots_.assign(blocks, kFree);
+  codes_.resize(kUniformBlocks * kBlockCells);
+  for (uint32_t c = 0; c < kUniformBlocks; ++c)
+    std::fill_n(codes_.begin() + std::ptrdiff_t(c * kBlockCells), kBlockCells, uint8_t(c));
 }
 
-void StaticMap::mark(size_t i, bool obstacle, bool visible) {
-  uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
+void StaticMap::mark(int ix, int iy, uint8_t add) {
   if (add == 0) return;
-  has_obstacles_ = has_obstacles_ || obstacle;
-  codes_[i] = code_of(uint8_t(bits_of(codes_[i]) | add));
+  uint8_t* cell = &codes_[index(ix, iy)];
+  const uint8_t code = combined(*cell, add);
+  if (code == *cell) return;  // already so: a shared block stays shared
+  if (sparse()) {
+    const size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
+    if (slots_[block] < kUniformBlocks)
+      cell = writable_block(block) + size_t((iy & (kTile - 1)) << kTileShift) + size_t(ix & (kTile - 1));
+  }
+  *cell = code;
 }
 
 void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
+  has_obstacles_ = has_obstacles_ || obstacle;
   double x0 = (lo.x - origin_.x) * inv_res_, x1 = (hi.x - origin_.x) * inv_res_;
   double y0 = (lo.y - origin_.y) * inv_res_, y1 = (hi.y - origin_.y) * inv_res_;
   int ix0 = int(std::floor(x0 + kEdgeSlack)), ix1 = int(std::ceil(x1 - kEdgeSlack)) - 1;
@@ -66,14 +101,18 @@ void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
   iy0 = std::max(iy0, 0);
   ix1 = std::min(ix1, w_ - 1);
   iy1 = std::min(iy1, h_ - 1);
+  const uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
+  if (sparse()) return fill_box_sparse(ix0, iy0, ix1, iy1, add);
   for (int iy = iy0; iy <= iy1; ++iy) {
-    for (int ix = ix0; ix <= ix1; ++ix) mark(index(ix, iy), obstacle, visible);
+    for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
   }
 }
 
 void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool visible) {
+  has_obstacles_ = has_obstacles_ || obstacle;
   const size_t n = poly.size();
-  if (n == 0) return;
+  const uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
+  if (n == 0 || add == 0) return;
   std::vector<Vec2> c(n);
   double ymin = 1e300, ymax = -1e300;
   for (size_t i = 0; i < n; ++i) {
@@ -85,7 +124,7 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
     int ix0 = std::max(0, int(std::floor(xa + kEdgeSlack)));
     int ix1 =
         std::min(w_ - 1, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
-    for (int ix = ix0; ix <= ix1; ++ix) mark(index(ix, iy), obstacle, visible);
+    for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
   };
   int row0 = std::max(0, int(std::floor(ymin + kEdgeSlack)));
   int row1 = std::min(h_ - 1, int(std::ceil(ymax - kEdgeSlack)) - 1);
@@ -120,12 +159,34 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
     for (size_t k = 0; k + 1 < xs.size(); k += 2) {
       int ix0 = std::max(0, int(std::ceil(xs[k] - 0.5)));
       int ix1 = std::min(w_ - 1, int(std::floor(xs[k + 1] - 0.5)));
-      for (int ix = ix0; ix <= ix1; ++ix) mark(index(ix, iy), obstacle, visible);
+      for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
+    }
+  }
+  // A rotated bitmap is a polygon per run of pixels: give back the blocks
+  // they have filled whole, or a building's inside would keep its cells.
+  if (sparse() && row0 <= row1) {
+    double xmin = 1e300, xmax = -1e300;
+    for (const Vec2& p : c) {
+      xmin = std::min(xmin, p.x);
+      xmax = std::max(xmax, p.x);
+    }
+    const int bx0 = int(std::clamp(std::floor(xmin), 0.0, double(w_ - 1))) >> kTileShift;
+    const int bx1 = int(std::clamp(std::floor(xmax), 0.0, double(w_ - 1))) >> kTileShift;
+    for (int by = row0 >> kTileShift; by <= row1 >> kTileShift; ++by) {
+      for (int bx = bx0; bx <= bx1; ++bx) release_if_uniform(size_t(by) * size_t(blocks_w_) + size_t(bx));
     }
   }
 }
 
 void StaticMap::finish() {
+  if (sparse()) {
+    finish_sparse();
+  } else {
+    finish_dense();
+  }
+}
+
+void StaticMap::finish_dense() {
   // Exact Euclidean distance transform (Felzenszwalb-Huttenlocher): a
   // vertical pass in two row-order sweeps, then the lower envelope of
   // parabolas along each row. Distances beyond 253 cells saturate.
@@ -143,39 +204,16 @@ void StaticMap::finish() {
     const uint8_t* below = &g[(y + 1) * w];
     for (size_t x = 0; x < w; ++x) gr[x] = uint8_t(std::min<int>(gr[x], below[x] + 1));
   }
-  std::vector<double> f(w), z(w + 1);
-  std::vector<int> v(w);
+  std::vector<double> f(w);
+  RowDistance row;
   for (size_t y = 0; y < h; ++y) {
     const uint8_t* gr = &g[y * w];
     for (size_t x = 0; x < w; ++x) f[x] = double(gr[x]) * double(gr[x]);
-    int k = 0;
-    v[0] = 0;
-    z[0] = -std::numeric_limits<double>::infinity();
-    z[1] = std::numeric_limits<double>::infinity();
-    for (int q = 1; q < w_; ++q) {
-      // z[0] is -infinity, so k never drops below 0.
-      auto cut = [&](int p) {
-        return ((f[size_t(q)] + double(q) * q) - (f[size_t(p)] + double(p) * p)) / (2.0 * (q - p));
-      };
-      double s = cut(v[size_t(k)]);
-      while (s <= z[size_t(k)]) {
-        --k;
-        s = cut(v[size_t(k)]);
-      }
-      ++k;
-      v[size_t(k)] = q;
-      z[size_t(k)] = s;
-      z[size_t(k) + 1] = std::numeric_limits<double>::infinity();
-    }
-    k = 0;
+    row.build(f.data(), w_);
     for (int q = 0; q < w_; ++q) {
-      while (z[size_t(k) + 1] < q) ++k;
+      const double d2 = row.at(q);
       uint8_t& cell = codes_[index(q, int(y))];
-      if (cell <= kBarrier) continue;
-      int p = v[size_t(k)];
-      double d2 = double(q - p) * (q - p) + f[size_t(p)];
-      double d = std::floor(std::sqrt(d2) + 1e-9);
-      cell = uint8_t(kFreeBase + std::min(d, 253.0));
+      if (cell > kBarrier) cell = distance_code(d2);
     }
   }
   // The coarse level: a byte per block, four bytes longer for the vector
@@ -195,11 +233,15 @@ void StaticMap::prefetch(Vec2 p, double r) const {
   if (!(u - ru >= 0 && v - ru >= 0 && u + ru < w_ && v + ru < h_)) return;  // near the edge: not worth it
   const int bx0 = int(u - ru) >> kTileShift, bx1 = std::min(int(u + ru) >> kTileShift, bx0 + 2);
   const int by0 = int(v - ru) >> kTileShift, by1 = std::min(int(v + ru) >> kTileShift, by0 + 2);
+  // A sparse block's cells are found through its table entry: loading the
+  // entry now would wait for it, so only the entry is fetched.
+  const uint8_t* cells = sparse() ? reinterpret_cast<const uint8_t*>(slots_.data()) : codes_.data();
+  const int shift = sparse() ? 2 : 2 * kTileShift;  // bytes per block: 4 (an entry) or 64 (its cells)
   for (int by = by0; by <= by1; ++by) {
     for (int bx = bx0; bx <= bx1; ++bx) {
       const size_t block = size_t(by) * size_t(blocks_w_) + size_t(bx);
       if (use_coarse_) __builtin_prefetch(&coarse_[block]);
-      __builtin_prefetch(&codes_[block << (2 * kTileShift)]);
+      __builtin_prefetch(cells + (block << shift));
     }
   }
 }

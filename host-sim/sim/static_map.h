@@ -12,12 +12,22 @@
 // puts every row in a line of its own. A map of a large swarm (tens of
 // megabytes) does not fit in the caches, so lines read are what a ray
 // costs there.
+//
+// A map too large to hold every cell (a campus at 0.02 m: 1.75 billion
+// cells) is sparse: a table gives each block its place in a pool, and only
+// the blocks that hold or border an obstacle (the coarse level below 3
+// cells of clearance) have one of their own. Every other block shares one
+// of 256 uniform blocks: a block inside a building the all-solid one, a
+// block in open space the one holding its coarse code, a march step just
+// as safe from any of its cells. Rays read exactly the cells and steps
+// they read on the dense map with its coarse level.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "host-sim/sim/desc.h"
 #include "host-sim/sim/geometry.h"
 #include "host-sim/sim/huge_page_allocator.h"
 
@@ -45,9 +55,14 @@ class StaticMap {
   static constexpr uint8_t kRangerMask = (1u << kSolid) | (1u << kVisible);
   static constexpr uint8_t kObstacleMask = (1u << kSolid) | (1u << kBarrier);
   static constexpr uint8_t kAnyMask = kRangerMask | kObstacleMask;
+  /// A sparse map's pool starts with one block of each code.
+  static constexpr uint32_t kUniformBlocks = 256;
 
-  /// An empty grid covering [lo, hi] (world frame, m) at `resolution` m.
-  void reset(Vec2 lo, Vec2 hi, double resolution);
+  /// An empty grid covering [lo, hi] (world frame, m) at `resolution` m,
+  /// sparse or dense as `storage` says (Auto: sparse from
+  /// kSparseFromCells cells on; beyond 2^30 cells always sparse, since a
+  /// dense map's cells are found by 32-bit offsets). At most kMaxCells.
+  void reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage = MapStorage::Auto);
 
   /// Marks the cells a polygon (world frame) overlaps. `obstacle` and
   /// `visible` say what it is; overlapping marks combine.
@@ -71,20 +86,31 @@ class StaticMap {
   void set_per_cell(bool on) { per_cell_ = on; }
   /// Whether cast_batch() looks at the coarse level first (see coarse_).
   /// finish() turns it on for maps larger than kCoarseFromCells; tests and
-  /// benchmarks may force it either way (the results are the same).
-  void set_coarse(bool on) { use_coarse_ = on; }
+  /// benchmarks may force it either way (the results are the same). A
+  /// sparse map always reads it.
+  void set_coarse(bool on) { use_coarse_ = on || sparse(); }
   bool coarse() const { return use_coarse_; }
   /// A block (a coarse cell, a cache line of cells) is kTile x kTile cells.
   static constexpr int kTileShift = 3;
   static constexpr int kTile = 1 << kTileShift;
-  /// Where cell (ix, iy) is stored: its block, then its row in the block.
+  /// Where cell (ix, iy) is stored: its block's place (the block itself
+  /// when dense), then its row in the block.
   size_t index(int ix, int iy) const {
-    const size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
+    size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
+    if (!slots_.empty()) block = slots_[block];
     return (block << (2 * kTileShift)) + size_t((iy & (kTile - 1)) << kTileShift) + size_t(ix & (kTile - 1));
   }
   /// Maps from this many cells on (4 MiB, about a core's share of the
   /// mid-level cache) read the coarse level first.
   static constexpr size_t kCoarseFromCells = size_t(4) << 20;
+  /// Maps from this many cells on (128 MiB dense, twice that while the
+  /// distance field is computed) are sparse unless told otherwise.
+  static constexpr size_t kSparseFromCells = size_t(1) << 27;
+  /// The largest grid, in cells (whole blocks): 2^26 blocks, whose table
+  /// and coarse level alone take 320 MiB.
+  static constexpr size_t kMaxCells = size_t(1) << 32;
+  /// True when only the blocks near obstacles are stored.
+  bool sparse() const { return !slots_.empty(); }
 
   /// Starts loading the cells within `r` (m) of `p` (world) into the
   /// cache, for a cast from there soon after. At most 3 x 3 blocks.
@@ -111,11 +137,35 @@ class StaticMap {
   /// Some cell is an obstacle (a world whose walls are all rigid bodies
   /// has none: its moves need no test against the grid).
   bool has_obstacles() const { return has_obstacles_; }
+  /// True when block (bx, by), cells [kTile bx, kTile bx + kTile) on each
+  /// axis, holds no occupied cell; false before finish(). Lets a walk over
+  /// every cell (a snapshot) pass a campus's open ground a block at a time.
+  bool block_free(int bx, int by) const {
+    return !coarse_.empty() && coarse_[size_t(by) * size_t(blocks_w_) + size_t(bx)] > kBarrier;
+  }
   /// Bytes held.
-  size_t memory_bytes() const { return codes_.capacity() + coarse_.capacity(); }
+  size_t memory_bytes() const {
+    return codes_.capacity() + coarse_.capacity() + slots_.capacity() * sizeof(uint32_t);
+  }
 
  private:
-  void mark(size_t index, bool obstacle, bool visible);
+  // A cell's code once `add` (bit 1: stops robots, bit 2: seen by rangers)
+  // is combined into it.
+  static uint8_t combined(uint8_t code, uint8_t add);
+  // A free cell's code at `d2` cells^2 from the nearest occupied cell centre.
+  static uint8_t distance_code(double d2);
+  void mark(int ix, int iy, uint8_t add);
+  // The dense map's distance field, and the sparse map's (static_map_sparse.cc).
+  void finish_dense();
+  void finish_sparse();
+  // Sparse: fills cells [ix0, ix1] x [iy0, iy1] a block at a time; whole
+  // blocks stay uniform.
+  void fill_box_sparse(int ix0, int iy0, int ix1, int iy1, uint8_t add);
+  // Sparse: the block's own cells, copied from its uniform block first if it
+  // had none. Invalidates pointers into codes_.
+  uint8_t* writable_block(size_t block);
+  // Sparse: gives a block back to the pool if its cells are all alike.
+  void release_if_uniform(size_t block);
   // Clips the ray to the grid: [t0, t1) in cells. False when it misses.
   bool clip(float ox, float oy, float dx, float dy, float& t0, float& t1) const;
 
@@ -130,7 +180,14 @@ class StaticMap {
   // outgrows the caches, open space is crossed by reading this cached
   // array, and the map itself is read only near obstacles.
   std::vector<uint8_t> coarse_;
+  // Sparse only: per block, its place in codes_ (in blocks). Places below
+  // kUniformBlocks are the shared uniform blocks, place c all of code c.
+  // Read at random by rays near obstacles, so in huge pages too.
+  std::vector<uint32_t, HugePageAllocator<uint32_t>> slots_;
+  // Sparse, while filling: places given back, to be reused.
+  std::vector<uint32_t> free_slots_;
   int blocks_w_ = 1;  // blocks per row of blocks
+  int blocks_h_ = 1;
   bool use_coarse_ = false;
   bool per_cell_ = false;
   bool has_obstacles_ = false;

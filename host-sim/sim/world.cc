@@ -1,7 +1,9 @@
 #include "host-sim/sim/world.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "host-sim/sim/engine.h"
 #include "host-sim/sim/loader.h"
@@ -90,6 +92,7 @@ void World::reset() {
     g.holding = false;
   }
   for (RobotId i = 0; i < e.bodies.size(); ++i) e.start_robot(i);
+  for (std::vector<std::byte>& m : e.controller_memory) std::fill(m.begin(), m.end(), std::byte{0});
   if (e.rigid) {
     for (RobotId i = 0; i < e.bodies.size(); ++i) e.sync_rigid(i);
   }
@@ -97,6 +100,28 @@ void World::reset() {
   e.time = 0;
   e.publish_states();
   e.broadphase();
+}
+
+// std::vector's allocator takes its bytes from operator new.
+static_assert(__STDCPP_DEFAULT_NEW_ALIGNMENT__ >= alignof(std::max_align_t),
+              "controller memory must be aligned for any scalar type");
+
+void World::set_controller_memory_size(RobotId id, size_t bytes) {
+  Engine& e = *e_;
+  if (id >= e.bodies.size()) throw std::out_of_range("no robot " + std::to_string(id));
+  if (e.controller_memory.size() < e.bodies.size()) e.controller_memory.resize(e.bodies.size());
+  e.controller_memory[id].assign(bytes, std::byte{0});
+}
+
+std::span<std::byte> World::controller_memory(RobotId id) {
+  Engine& e = *e_;
+  if (id >= e.bodies.size()) throw std::out_of_range("no robot " + std::to_string(id));
+  if (id >= e.controller_memory.size()) return {};
+  return e.controller_memory[id];
+}
+
+std::span<const std::byte> World::controller_memory(RobotId id) const {
+  return const_cast<World*>(this)->controller_memory(id);
 }
 
 double World::time() const {

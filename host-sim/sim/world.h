@@ -12,6 +12,7 @@
 // every run, whatever order sensors are read or wanted in.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -281,6 +282,18 @@ class World {
   /// the robots' states, so states and sensors follow what the game layer
   /// did to the rigid world. Nothing in a kinematic world.
   void rigid_moved();
+
+  // ---- Controller memory ------------------------------------------------------
+
+  /// Gives the robot `bytes` of controller memory, all zero (what a
+  /// controller remembers between steps: host-sim/sim/controller.h). It is
+  /// the robot's, like its pose: reset() zeroes it, and whoever moves the
+  /// robot elsewhere moves these bytes with it.
+  void set_controller_memory_size(RobotId id, size_t bytes);
+  /// The robot's controller memory (empty when none was given), aligned
+  /// for any scalar type.
+  std::span<std::byte> controller_memory(RobotId id);
+  std::span<const std::byte> controller_memory(RobotId id) const;
 
   // ---- Inspection ------------------------------------------------------------
 

@@ -1,5 +1,7 @@
 // troupe-sim: simulates a Stage world, or a RoboCup match written as one,
 // and serves its robots over the wire. See options.cc for the command line.
+// Started as troupe-robocup (a symbolic link to it), it is
+// `troupe-sim --fast --no-serve`.
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -13,13 +15,14 @@
 #include "runtime/stop_signals.h"
 
 int main(int argc, char** argv) {
-  troupe::set_log_program("troupe-sim");
   troupe::sim::SimOptions options;
   if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
+  troupe::set_log_program(options.program.c_str());
+  const char* program = options.program.c_str();
   std::string error;
   if (!options.secure_file.empty() &&
       !troupe::load_secure_sessions(options.secure_file, options.secure, error)) {
-    std::fprintf(stderr, "troupe-sim: --secure %s\n", error.c_str());
+    std::fprintf(stderr, "%s: --secure %s\n", program, error.c_str());
     return 2;
   }
   if (options.serve && !troupe::may_serve("troupe-sim", options.listen, options.port, options.secure.on(),
@@ -82,23 +85,32 @@ int main(int argc, char** argv) {
     if (options.secure.on()) {
       troupe::log_info("secure sessions only; this simulator's key is %s", options.secure.key_hex.c_str());
     } else if (!troupe::loopback_only(options.listen)) {
-      plain_warning = std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe-sim on " + node.listen_text());
+      plain_warning =
+          std::make_unique<troupe::PlainServiceWarning>(node.loop(), "troupe-sim on " + node.listen_text());
     }
   };
 
   if (troupe::sim::is_robocup_world(options.world)) {
     troupe::sim::RobocupMode match;
     if (!match.init(options, error)) {
-      std::fprintf(stderr, "troupe-sim: %s\n", error.c_str());
+      std::fprintf(stderr, "%s: %s\n", program, error.c_str());
       return 1;
     }
-    troupe::StopOnSignal stop_on_signal(match.node().loop(), [&match] { match.request_stop(); });
     troupe::log_info("%s: a RoboCup match, %d robots, cycle %.0f ms, seed %llu", options.world.c_str(),
                      match.simulation().robot_count(), match.simulation().cycle_s() * 1e3,
                      static_cast<unsigned long long>(match.simulation().spec().seed));
+    // A console runs the match itself, unserved, until its commands end.
+    if (!match.serving()) return match.run();
+    troupe::StopOnSignal stop_on_signal(match.node().loop(), [&match] { match.request_stop(); });
     print_port(match.node());
     if (!start_viewer(match.port())) return 1;
     return match.run();
+  }
+  // The console and the referee's events are a match's.
+  if (const char* option = troupe::sim::robocup_only_option(options)) {
+    std::fprintf(stderr, "%s: %s is for RoboCup worlds; %s is a Stage world\n", program, option,
+                 options.world.c_str());
+    return 1;
   }
 
   troupe::sim::Runner runner;
@@ -107,7 +119,7 @@ int main(int argc, char** argv) {
   // Warnings (unknown keys, ...) and errors, each with file:line.
   for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
   if (!ok) {
-    if (!error.empty()) std::fprintf(stderr, "troupe-sim: %s\n", error.c_str());
+    if (!error.empty()) std::fprintf(stderr, "%s: %s\n", program, error.c_str());
     return 1;
   }
   troupe::StopOnSignal stop_on_signal(runner.node().loop(), [&runner] { runner.request_stop(); });

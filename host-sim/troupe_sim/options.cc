@@ -24,26 +24,61 @@ std::vector<std::string> with_optional_ports(int argc, const char* const* argv, 
   return args;
 }
 
+const char* const kExitText =
+    "exit status: 0 when the run reached its quit time (also when a client's Step\n"
+    "request got there; the log says so), the referee's time was up, the console's\n"
+    "commands ran, or SIGINT/SIGTERM stopped it; 1 when the world, a controller, the\n"
+    "snapshot, the log, the console's script or one of its commands failed; 2 on a\n"
+    "bad command line.\n";
+
+cli::Help sim_help() {
+  return {"troupe-sim WORLD [options]",
+          std::string("Simulates the Stage world file WORLD and serves every robot's devices over the\n"
+                      "wire: robot i's devices are ROBOT/INTERFACE:INDEX (r0/position2d:0, r0/ranger:1)\n"
+                      "on one port, and simulation:0 pauses, steps, teleports and resets. A RoboCup\n"
+                      "match written as a Stage world (robocup_field, ball, referee, robocup_robot)\n"
+                      "runs on rigid-body physics, served the same way, with players and a score; its\n"
+                      "referee's events and the final score are printed on standard output, and\n"
+                      "--script or --interactive run console commands instead of serving it.\n"
+                      "troupe-robocup is this program with --fast --no-serve.\n"
+                      "\n") +
+              kExitText,
+          {"troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png",
+           "troupe-sim simple.world --port 7000 & troupe ls localhost:7000",
+           "troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200",
+           "troupe-sim examples/worlds/sitl_room.world --p2os-tcp      # ARIA: localhost:8101",
+           "troupe-sim examples/robocup/match.world          # a RoboCup match, served and drawn",
+           "troupe-sim examples/robocup/match.world --script moves.txt   # run 5, score, ..."}};
+}
+
+cli::Help alias_help() {
+  return {"troupe-robocup WORLD [options]",
+          std::string("troupe-sim --fast --no-serve under another name: runs the RoboCup world WORLD\n"
+                      "flat out, unserved, printing the referee's events as they happen and the final\n"
+                      "score. --script FILE or --interactive (standard input) run console commands\n"
+                      "between cycles: run SECONDS, step [N], start ROBOT PLUGIN [key=value ...],\n"
+                      "stop ROBOT, score, state, ball X Y, place ROBOT X Y A, kick ROBOT, quit, ...\n"
+                      "To serve a match (real time, the viewer, clients), run troupe-sim WORLD.\n"
+                      "\n") +
+              kExitText,
+          {"troupe-robocup examples/robocup/match.world --quit-time 120 --seed 4",
+           "troupe robocup examples/robocup/match.world --interactive   # then: run 5, score, quit"}};
+}
+
 }  // namespace
 
+bool started_as_robocup_alias(const char* argv0) {
+  const std::string name = argv0 ? argv0 : "";
+  return name.substr(name.rfind('/') + 1) == kRobocupAlias;
+}
+
 int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
-  auto app = cli::make_app(
-      "troupe-sim",
-      {"troupe-sim WORLD [options]",
-       "Simulates the Stage world file WORLD and serves every robot's devices over the\n"
-       "wire: robot i's devices are ROBOT/INTERFACE:INDEX (r0/position2d:0, r0/ranger:1)\n"
-       "on one port, and simulation:0 pauses, steps, teleports and resets. A RoboCup\n"
-       "match written as a Stage world (robocup_field, ball, referee, robocup_robot)\n"
-       "runs on rigid-body physics, served the same way, with players and a score.\n"
-       "\n"
-       "exit status: 0 when the run reached its quit time (also when a client's Step\n"
-       "request got there; the log says so) or was stopped by SIGINT/SIGTERM; 1 when the\n"
-       "world, a controller, the snapshot or the log failed; 2 on a bad command line.\n",
-       {"troupe-sim examples/worlds/swarm100.world --fast --quit-time 60 --snapshot out.png",
-        "troupe-sim simple.world --port 7000 & troupe ls localhost:7000",
-        "troupe-sim examples/worlds/sitl_room.world --emulate r0=p2os,sicklms200",
-        "troupe-sim examples/worlds/sitl_room.world --p2os-tcp      # ARIA: localhost:8101",
-        "troupe-sim examples/robocup/match.world          # a RoboCup match, served and drawn"}});
+  const bool alias = argc > 0 && started_as_robocup_alias(argv[0]);
+  if (alias) {
+    out.program = kRobocupAlias;
+    out.fast = true;
+  }
+  auto app = cli::make_app(out.program, alias ? alias_help() : sim_help());
   bool no_view = false;
   app->add_option("WORLD", out.world, "the world file")->required();
   app->add_flag("--headless", out.headless, "no window (always; the viewer connects over the wire)");
@@ -55,9 +90,11 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
       ->type_name("SECONDS")
       ->check(cli::at_least(0));
   app->add_flag("--paused", out.paused, "start paused");
-  app->add_option("--seed", out.seed, "seed of every random number in the run (default 0)")
-      ->type_name("N")
-      ->check(cli::at_least(0));
+  auto* seed = app->add_option("--seed", out.seed,
+                               "seed of every random number in the run, 0 included\n"
+                               "(default: a RoboCup world's seed; 0 for a Stage world)")
+                   ->type_name("N")
+                   ->check(cli::at_least(0));
   cli::add_port(*app, "--port", out.port, "TCP port (default 6665; 0: any free port, printed)");
   app->add_option("--listen", out.listen, "address to listen on (default localhost: 127.0.0.1 and ::1)")
       ->type_name("ADDR");
@@ -103,7 +140,22 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                 "load anyway; robots whose controller is missing stay idle");
   app->add_flag("--no-ctrl", out.no_ctrl, "run no controllers: every robot waits for clients");
   app->add_flag("--profile", out.profile, "print the time spent in each phase of the step at the end");
+
   cli::add_log_level(*app);
+
+  const std::string robocup = "RoboCup worlds";
+  auto* script = app->add_option("--script", out.script,
+                                 "run console commands from FILE between cycles (run 10,\n"
+                                 "start ROBOT PLUGIN, score, ...), flat out and unserved")
+                     ->type_name("FILE")
+                     ->group(robocup);
+  auto* interactive = app->add_flag("--interactive", out.interactive, "the same, typed on standard input")
+                          ->excludes(script)
+                          ->group(robocup);
+  app->add_flag("--quiet", out.quiet, "no referee event lines, only the final score")->group(robocup);
+  // troupe-robocup's old run length: one rule now, --quit-time.
+  std::string seconds;
+  auto* old_seconds = app->add_option("--seconds", seconds)->group("");
 
   const std::string sitl = "hardware in the loop (SITL)";
   app->add_option("--emulate", out.emulate,
@@ -133,14 +185,32 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                        ->group(sitl);
 
   if (int rc = cli::parse(*app, with_optional_ports(argc, argv, out)); rc >= 0) return rc;
-  out.serve = !no_serve;
+  if (old_seconds->count() > 0) {
+    return cli::usage_error(*app, "--seconds is gone: --quit-time S stops the run after S simulated seconds");
+  }
+  const char* console = script->count() > 0        ? "--script"
+                        : interactive->count() > 0 ? "--interactive"
+                                                   : nullptr;
+  if (console && out.quit_time >= 0) {
+    return cli::usage_error(*app, std::string("--quit-time with ") + console +
+                                      ": the commands say how far the match runs (run SECONDS, step N)");
+  }
+  // Why nothing is served, for the messages below: the console runs the
+  // match itself, and the alias is --no-serve.
+  const char* unserved = no_serve  ? "--no-serve"
+                         : console ? console
+                         : alias   ? "troupe-robocup, which is --no-serve"
+                                   : nullptr;
+  out.seed_given = seed->count() > 0;
+  out.serve = unserved == nullptr;
   out.view_asked = view->count() > 0 || view_listen->count() > 0;
   out.view = !no_view;
   if (out.paused && !out.serve) {
-    return cli::usage_error(*app, "--paused with --no-serve: nothing could ever resume the simulation");
+    return cli::usage_error(*app, std::string("--paused with ") + unserved +
+                                      ": nothing is served, so nothing could ever resume the simulation");
   }
   if (secure->count() > 0 && !out.serve) {
-    return cli::usage_error(*app, "--secure with --no-serve: --no-serve opens no sockets");
+    return cli::usage_error(*app, std::string("--secure with ") + unserved + ": it opens no sockets");
   }
   if (secure->count() > 0 && p2os_tcp->count() > 0 && !loopback_only(out.listen)) {
     return cli::usage_error(*app,
@@ -148,7 +218,7 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                             "so anyone reaching its ports would drive the robots");
   }
   if (p2os_tcp->count() > 0 && !out.serve) {
-    return cli::usage_error(*app, "--p2os-tcp with --no-serve: --no-serve opens no sockets");
+    return cli::usage_error(*app, std::string("--p2os-tcp with ") + unserved + ": it opens no sockets");
   }
   return -1;
 }

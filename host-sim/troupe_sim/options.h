@@ -12,6 +12,14 @@ namespace troupe::sim {
 /// MobileSim's first robot port, where `--p2os-tcp` serves robot 0.
 inline constexpr int kMobileSimPort = 8101;
 
+/// The name troupe-sim also answers to: `troupe-robocup ARGS` (a symbolic
+/// link to it, `troupe robocup ARGS` through the CLI) is
+/// `troupe-sim --fast --no-serve ARGS`, a match flat out from the console.
+inline constexpr const char* kRobocupAlias = "troupe-robocup";
+
+/// True when the program was started under the alias's name (argv[0]).
+bool started_as_robocup_alias(const char* argv0);
+
 struct SimOptions {
   std::string world;
   bool headless = true;  // there is no window; the browser viewer connects over the wire
@@ -23,7 +31,11 @@ struct SimOptions {
   double quit_time = -1;
   /// Start paused (a client resumes it through simulation:0).
   bool paused = false;
+  /// Seeds every random number of the run, 0 included, when seed_given;
+  /// otherwise the world's own seed: a RoboCup world's `seed`, and 0 for a
+  /// Stage world (it has no such key).
   uint64_t seed = 0;
+  bool seed_given = false;
   std::string listen = "localhost";
   /// --secure FILE: the key and clients (with rights) of secure sessions,
   /// as in a node config (runtime/node_secure.h). Empty: plain TCP.
@@ -60,6 +72,18 @@ struct SimOptions {
   /// Run no in-process controllers (the robots are driven over the wire).
   bool no_ctrl = false;
   bool profile = false;  // print the time per phase at the end
+  /// RoboCup worlds: console commands (robocup/game/console.h) from this
+  /// file, or from standard input when `interactive`, run between cycles.
+  /// The commands then decide how far the match runs, flat out, unserved.
+  std::string script;
+  bool interactive = false;
+  /// RoboCup worlds: no referee event lines on standard output (the final
+  /// score line stays).
+  bool quiet = false;
+  /// The name in messages and the log: troupe-sim, or kRobocupAlias.
+  std::string program = "troupe-sim";
+
+  bool console() const { return !script.empty() || interactive; }
   /// --emulate ROBOT=DEVICE[,DEVICE]: robots presented as hardware on
   /// pseudo-terminals (SITL); see emulation.h.
   std::vector<std::string> emulate;

@@ -1,7 +1,10 @@
 #include "host-sim/troupe_sim/robocup_mode.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iostream>
 
 #include "host-sim/robocup/game/world_spec.h"
 #include "runtime/log.h"
@@ -18,6 +21,13 @@ bool is_robocup_world(const std::string& path) {
   return false;
 }
 
+const char* robocup_only_option(const SimOptions& options) {
+  return !options.script.empty() ? "--script"
+         : options.interactive   ? "--interactive"
+         : options.quiet         ? "--quiet"
+                                 : nullptr;
+}
+
 bool RobocupMode::init(const SimOptions& options, std::string& error) {
   // What belongs to the Stage engine alone.
   const char* refused = !options.emulate.empty()      ? "--emulate"
@@ -31,16 +41,26 @@ bool RobocupMode::init(const SimOptions& options, std::string& error) {
     error = std::string(refused) + " is for Stage worlds; " + options.world + " is a RoboCup world";
     return false;
   }
-  profile_ = options.profile;
+  options_ = options;
   robocup::WorldSpec spec;
   if (!robocup::load_world_file(options.world, spec, error)) return false;
-  if (options.seed != 0) spec.seed = options.seed;
+  if (options.seed_given) spec.seed = options.seed;
   const std::string folder = std::filesystem::path(options.world).parent_path().string();
   robocup::PluginLoader loader(plugin::search_path(options.plugin_path, folder));
   sim_ = robocup::Simulation::create(std::move(spec), std::move(loader), error);
   if (!sim_) return false;
   // A plugin that is missing or refuses its options was reported with its
   // file and line; the match goes on without it.
+  if (!sim_->problems().empty())
+    log_warn("running without %zu plugin(s), see above", sim_->problems().size());
+  // Events and command answers are flushed line by line: a script or a
+  // test reading the output sees each as it happens.
+  console_ = std::make_unique<robocup::Console>(*sim_, [](const std::string& line) {
+    std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+  });
+  console_->show_events(!options.quiet);
+  if (options.console()) return true;
   robocup::ServeOptions so;
   so.listen = options.listen;
   so.port = options.port;
@@ -49,17 +69,63 @@ bool RobocupMode::init(const SimOptions& options, std::string& error) {
   so.seconds = options.quit_time > 0 ? options.quit_time : 0;
   so.serve = options.serve;
   so.secure = options.secure;
+  so.after_step = [this] { console_->print_events(); };
   loop_ = std::make_unique<robocup::ServeLoop>(*sim_);
   return loop_->start(so, error);
 }
 
 int RobocupMode::run() {
-  loop_->run();
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double sim0 = sim_->time_s();
+  int status = 0;
+  if (loop_) {
+    loop_->run();
+  } else {
+    status = run_console();
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const robocup::Score s = sim_->score();
-  log_info("%.2f s simulated; score blue %d : %d yellow", sim_->time_s(), s.blue, s.yellow);
+  std::printf("final: blue %d yellow %d after %.2f s simulated in %.2f s wall (%.1fx real time)\n", s.blue,
+              s.yellow, sim_->time_s(), wall, wall > 0 ? (sim_->time_s() - sim0) / wall : 0.0);
+  std::fflush(stdout);
   // Where a Stage world prints its step's table (runner.cc), in its format.
-  if (profile_) std::fprintf(stderr, "%s", sim_->profile_table().c_str());
-  return 0;
+  if (options_.profile) std::fprintf(stderr, "%s", sim_->profile_table().c_str());
+  return status;
+}
+
+// One line at a time, so that `--interactive` answers each as it is typed.
+// A script stops at its first bad command; standard input goes on after
+// one (the user sees the error and types again). Either way the bad
+// command changed nothing and the exit status says so.
+int RobocupMode::run_console() {
+  const char* program = options_.program.c_str();
+  std::ifstream file;
+  std::istream* in = &std::cin;
+  if (!options_.script.empty()) {
+    file.open(options_.script);
+    if (!file) {
+      std::fprintf(stderr, "%s: %s: cannot open\n", program, options_.script.c_str());
+      return 1;
+    }
+    in = &file;
+  }
+  const std::string name = options_.script.empty() ? "stdin" : options_.script;
+  int status = 0;
+  std::string line, error;
+  for (int number = 1; !console_->quit() && std::getline(*in, line); ++number) {
+    std::vector<robocup::Statement> commands;
+    bool ok = robocup::parse_commands(line, name, commands, error, number);
+    for (const robocup::Statement& c : commands) {
+      if (!ok) break;
+      ok = console_->execute(c, error);
+    }
+    if (!ok) {
+      std::fprintf(stderr, "%s: %s\n", program, error.c_str());
+      status = 1;
+      if (!options_.interactive) break;
+    }
+  }
+  return status;
 }
 
 }  // namespace troupe::sim

@@ -2,12 +2,16 @@
 // robocup_field, a ball, a referee and robocup_robots (host-sim/robocup,
 // README "World files") runs as a match on rigid-body physics, served by
 // RobocupServer on the same paced loop and the same simulation:0 handler as
-// every world (host-sim/sim_control), with the viewer beside it.
+// every world (host-sim/sim_control), with the viewer beside it. Or, with
+// --script / --interactive, driven by console commands between cycles
+// (robocup/game/console.h), flat out and unserved. Either way the referee's
+// events go to standard output as they happen, then the final score.
 #pragma once
 
 #include <memory>
 #include <string>
 
+#include "host-sim/robocup/game/console.h"
 #include "host-sim/robocup/serve/serve_loop.h"
 #include "host-sim/troupe_sim/options.h"
 
@@ -18,21 +22,39 @@ namespace troupe::sim {
 /// files included.
 bool is_robocup_world(const std::string& path);
 
+/// The first option given that only a RoboCup world takes (the console,
+/// --quiet), or null: a Stage world refuses it.
+const char* robocup_only_option(const SimOptions& options);
+
 class RobocupMode {
  public:
-  /// Loads the match and opens its server. False with `error`: a bad world
-  /// file (file:line), an option a match does not take, a port in use.
+  /// Loads the match and opens its server (none with a console). False
+  /// with `error`: a bad world file (file:line), an option a match does
+  /// not take, a port in use.
   bool init(const SimOptions& options, std::string& error);
+  /// Runs the match to its end, then prints the final line on standard
+  /// output. The exit status: 0, or 1 when the console's script cannot be
+  /// read or one of its commands failed.
   int run();
-  void request_stop() { loop_->request_stop(); }
+  /// Safe from any thread; nothing to stop with a console (it reads its
+  /// commands to the end).
+  void request_stop() {
+    if (loop_) loop_->request_stop();
+  }
+  /// False with a console: nothing is served, so there is no node, no
+  /// port and no viewer.
+  bool serving() const { return loop_ != nullptr; }
   uint16_t port() const { return loop_->port(); }
   Node& node() { return loop_->node(); }
   robocup::Simulation& simulation() { return *sim_; }
 
  private:
+  int run_console();
+
+  SimOptions options_;
   std::unique_ptr<robocup::Simulation> sim_;
+  std::unique_ptr<robocup::Console> console_;
   std::unique_ptr<robocup::ServeLoop> loop_;
-  bool profile_ = false;  // --profile: the cycle's phase table at the end
 };
 
 }  // namespace troupe::sim

@@ -76,6 +76,8 @@ TEST_F(MatchInTroupeSim, ServesTheMatchThroughTheOneSimulationHandler) {
   ASSERT_TRUE(sim.get_game(game));
   EXPECT_EQ(game.score_blue, 1u);
   EXPECT_EQ(game.score_yellow, 0u);
+  // The referee's event on standard output, as it happened.
+  EXPECT_TRUE(sim_.wait_for("goal blue (blue 1 : yellow 0)\n", false, 10000)) << sim_.out();
   // Bad requests are refused and the match goes on.
   EXPECT_FALSE(sim.set_pose("nobody", {0, 0, 0}));
   EXPECT_NE(c.error().find("no model named 'nobody'"), std::string::npos) << c.error();
@@ -85,7 +87,7 @@ TEST_F(MatchInTroupeSim, ServesTheMatchThroughTheOneSimulationHandler) {
 TEST(MatchBatch, RunsToItsQuitTimeAndSaysTheScore) {
   const auto r = testing::run_to_end({kSim, kMatch, "--no-serve", "--fast", "--quit-time", "3"}, 120000);
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.err.find("3.00 s simulated; score blue"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("final: blue 0 yellow 0 after 3.00 s simulated in "), std::string::npos) << r.out;
   const auto refused = testing::run_to_end({kSim, kMatch, "--no-serve", "--snapshot", "x.png"}, 60000);
   EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.err.find("--snapshot is for Stage worlds"), std::string::npos) << refused.err;

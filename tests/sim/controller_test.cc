@@ -4,7 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
+#include <memory>
+#include <span>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "host-sim/sim/controller_host.h"
 #include "tests/sim/scenes.h"
@@ -213,6 +218,88 @@ TEST_F(BrokenController, AControllerCommandingNaNIsStoppedAndTheWorldStaysFinite
   EXPECT_TRUE(finite_pose(w_->state(0).pose));
   EXPECT_NEAR(w_->state(0).pose.x, 0.15, 1e-9);  // 5 steps at 0.3 m/s
   EXPECT_NEAR(w_->state(1).pose.x, 0.6, 1e-9);
+}
+
+// What a controller remembers is the World's (controller memory), so a
+// robot handed to a fresh instance mid-run, as a distributed run hands a
+// robot crossing into another process's region, carries on exactly as if
+// nothing had happened. Each world is run twice: straight through, and with
+// every controller destroyed and loaded anew before step `handover`.
+std::vector<Pose> run_with_handover(const std::string& path, int steps, int handover, bool hand_over) {
+  world::Diagnostics d;
+  auto w = World::load(path, 5, d);
+  EXPECT_TRUE(w) << d.str();
+  if (!w) return {};
+  auto host = std::make_unique<ControllerHost>();
+  EXPECT_TRUE(host->load(*w, options(), d)) << d.str();
+  for (int s = 0; s < steps; ++s) {
+    if (hand_over && s == handover) {
+      host = std::make_unique<ControllerHost>();
+      EXPECT_TRUE(host->load(*w, options(), d)) << d.str();
+    }
+    host->update(*w);
+    w->step();
+  }
+  std::vector<Pose> poses;
+  for (RobotId r = 0; r < w->robot_count(); ++r) poses.push_back(w->state(r).pose);
+  return poses;
+}
+
+void expect_same_run_with_a_handover(const std::string& path, int steps, int handover) {
+  const std::vector<Pose> straight = run_with_handover(path, steps, handover, false);
+  const std::vector<Pose> handed = run_with_handover(path, steps, handover, true);
+  ASSERT_FALSE(straight.empty());
+  ASSERT_EQ(straight.size(), handed.size());
+  for (size_t i = 0; i < straight.size(); ++i) {
+    EXPECT_EQ(straight[i].x, handed[i].x) << "robot " << i;
+    EXPECT_EQ(straight[i].y, handed[i].y) << "robot " << i;
+    EXPECT_EQ(straight[i].a, handed[i].a) << "robot " << i;
+  }
+}
+
+std::string example_world(const char* name) {
+  return std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/" + name;
+}
+
+TEST(ControllerHandover, WanderInTheOffice) {
+  expect_same_run_with_a_handover(example_world("office.world"), 600, 300);
+}
+
+TEST(ControllerHandover, ForagingRobotsCarryingPucks) {
+  expect_same_run_with_a_handover(example_world("forage.world"), 400, 200);
+}
+
+// swarm remembers only how it wanders while it sees nobody: short-sighted
+// robots far apart in the arena, so the handover comes mid-wander.
+TEST(ControllerHandover, SwarmRobotsWanderingAlone) {
+  troupe::test::TempDir dir;
+  const std::string path = dir.write("c.world", std::string(kArena) + R"(
+define loner position ( size [0.3 0.3] fiducial_return 1
+  ranger ( sensor ( range [0 3] fov 270 samples 28 ) )
+  fiducial ( range_max 0.8 fov 360 ) ctrl "swarm aggregate" )
+loner ( name "a" pose [-2.5 -2.5 0 0] )
+loner ( name "b" pose [2.5 2.5 0 180] )
+loner ( name "c" pose [2.5 -2.5 0 90] )
+)");
+  expect_same_run_with_a_handover(path, 300, 137);
+}
+
+TEST(ControllerMemory, ZeroAtTheStartAndAfterAResetAndKeptForAFreshInstance) {
+  WorldDesc desc = test::room(5, 5);
+  desc.robots.push_back(test::robot("r0", {0, 0, 0}));
+  World w(desc, Random(1));
+  EXPECT_TRUE(w.controller_memory(0).empty());
+  w.set_controller_memory_size(0, 24);
+  std::span<std::byte> m = w.controller_memory(0);
+  ASSERT_EQ(m.size(), 24u);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(m.data()) % alignof(std::max_align_t), 0u);
+  for (std::byte b : m) EXPECT_EQ(b, std::byte{0});
+  m[5] = std::byte{42};
+  w.step();
+  EXPECT_EQ(w.controller_memory(0)[5], std::byte{42});
+  w.reset();
+  EXPECT_EQ(w.controller_memory(0)[5], std::byte{0});
+  EXPECT_THROW(w.controller_memory(RobotId(w.robot_count())), std::out_of_range);
 }
 
 }  // namespace

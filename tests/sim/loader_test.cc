@@ -211,6 +211,26 @@ TEST(Loader, BadValuesAreErrorsWithFileAndLine) {
   }
 }
 
+// A campus-sized floorplan (Stage's large.world: 1,000 x 700 m at 0.02 m)
+// is within what a sparse grid holds; four times its side is not, and the
+// error says how many cells it would take and how many fit.
+TEST(Loader, ACampusFitsAndAGridTooLargeEvenWhenSparseIsRefusedClearly) {
+  troupe::test::TempDir dir;
+  world::Diagnostics ok;
+  WorldDesc campus;
+  EXPECT_TRUE(load_text("resolution 0.02\nmodel ( size [1000 700] )\n", campus, ok, dir)) << ok.str();
+  world::Diagnostics d;
+  WorldDesc w;
+  EXPECT_FALSE(load_text("\nresolution 0.02\nmodel ( size [4000 2800] )\n", w, d, dir));
+  ASSERT_EQ(d.error_count(), 1u) << d.str();
+  const auto& e = d.items().front();
+  EXPECT_EQ(e.loc.line, 2);
+  EXPECT_NE(e.message.find("the obstacle grid would need 59"), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("more than even a sparse grid holds (4294967296)"), std::string::npos)
+      << e.message;
+  EXPECT_NE(e.message.find("use a coarser resolution"), std::string::npos) << e.message;
+}
+
 // Mutated copies of simple.world, loaded and stepped: every failure is a
 // reported error, and whatever loads runs.
 TEST(Loader, FuzzedSimpleWorldLoadsOrFailsCleanly) {

@@ -50,7 +50,7 @@ constexpr Command kCommands[] = {
     {"logmap", "LOG -o MAP.png", "draw an occupancy map from a CARMEN log", nullptr},
     {"mcl-eval", "LOG", "Monte Carlo localization on a CARMEN log, scored", nullptr},
     {"ros2", "HOST", "publish every device of a node or simulator on ROS 2", nullptr},
-    {"robocup", "WORLD", "run a RoboCup F2000 world", nullptr},
+    {"robocup", "WORLD", "a RoboCup world flat out, from the console (troupe-sim)", nullptr},
     {"goalkeeper-bench", "", "the goalkeeper benchmark table", nullptr},
     {"robocup-motion", "record|fit|check", "train and check the learned motion model", nullptr},
     {"emulate-p2os", "", "a Pioneer (P2OS) on a pseudo-terminal", nullptr},

@@ -56,7 +56,10 @@ class Forage final : public sim::Controller {
     return true;
   }
 
+  size_t memory_size() const override { return sizeof(Memory); }
+
   void update(RobotHandle& robot) override {
+    Memory& m = robot.memory_as<Memory>();
     const sim::RangerView scan = robot.ranger(0);
     if (scan.step == UINT64_MAX) return;
     const sim::Pose me = robot.state().pose;
@@ -64,10 +67,10 @@ class Forage final : public sim::Controller {
     const double to_nest_x = p_.nest_x - me.x, to_nest_y = p_.nest_y - me.y;
     const double nest_distance = std::hypot(to_nest_x, to_nest_y);
     double v = 0, w = 0;
-    switch (mode_) {
+    switch (m.mode) {
       case Mode::Search: {
         if (g.holding) {
-          mode_ = Mode::Carry;
+          m.mode = Mode::Carry;
           break;
         }
         if (g.closed) {
@@ -76,7 +79,7 @@ class Forage final : public sim::Controller {
         }
         const sim::FiducialReading* target = nearest_loose_puck(robot, me);
         if (target == nullptr) {
-          wander(robot, scan, v, w);
+          wander(robot, scan, m, v, w);
         } else if (target->range < p_.grab && std::fabs(target->bearing) < 0.35) {
           robot.set_gripper(0, true);
         } else {
@@ -87,13 +90,13 @@ class Forage final : public sim::Controller {
       }
       case Mode::Carry: {
         if (!g.holding) {
-          mode_ = Mode::Search;
+          m.mode = Mode::Search;
           break;
         }
         if (nest_distance < p_.drop) {
           robot.set_gripper(0, false);
-          mode_ = Mode::Leave;
-          leave_steps_ = 25;
+          m.mode = Mode::Leave;
+          m.leave_steps = 25;
           break;
         }
         const double bearing = std::remainder(std::atan2(to_nest_y, to_nest_x) - me.a, 2 * kPi);
@@ -105,12 +108,12 @@ class Forage final : public sim::Controller {
       }
       case Mode::Leave:
         // Back out of the nest, turn, then search again.
-        v = leave_steps_ > 12 ? -0.5 * p_.speed : 0.0;
-        w = leave_steps_ > 12 ? 0.0 : 1.5;
-        if (--leave_steps_ <= 0) mode_ = Mode::Search;
+        v = m.leave_steps > 12 ? -0.5 * p_.speed : 0.0;
+        w = m.leave_steps > 12 ? 0.0 : 1.5;
+        if (--m.leave_steps <= 0) m.mode = Mode::Search;
         break;
     }
-    if (robot.state().stalled && mode_ != Mode::Leave) {
+    if (robot.state().stalled && m.mode != Mode::Leave) {
       // Stuck against something: turn on the spot for a while.
       v = 0;
       w = robot.uniform(0) < 0.5 ? -1.5 : 1.5;
@@ -119,7 +122,16 @@ class Forage final : public sim::Controller {
   }
 
  private:
-  enum class Mode { Search, Carry, Leave };
+  enum class Mode { Search, Carry, Leave };  // Search first: all-zero memory searches
+
+  // What it remembers between steps (the World's bytes; all zero at the
+  // start).
+  struct Memory {
+    Mode mode;
+    int leave_steps;   // steps of backing out of the nest left
+    int wander_steps;  // steps until the next random turn
+    double turn;       // rad/s while wandering
+  };
 
   // The nearest puck seen that is not in the nest yet, or nullptr.
   const sim::FiducialReading* nearest_loose_puck(RobotHandle& robot, const sim::Pose& me) const {
@@ -150,22 +162,18 @@ class Forage final : public sim::Controller {
     w = left < right ? -1.5 : 1.5;
   }
 
-  void wander(RobotHandle& robot, const sim::RangerView& scan, double& v, double& w) {
-    if (--wander_steps_ <= 0) {
-      turn_ = (robot.uniform(1) - 0.5) * 1.6;
-      wander_steps_ = 10 + int(robot.uniform(2) * 30);
+  void wander(RobotHandle& robot, const sim::RangerView& scan, Memory& m, double& v, double& w) const {
+    if (--m.wander_steps <= 0) {
+      m.turn = (robot.uniform(1) - 0.5) * 1.6;
+      m.wander_steps = 10 + int(robot.uniform(2) * 30);
     }
     v = p_.speed;
-    w = turn_;
+    w = m.turn;
     avoid(scan, p_.avoid, v, w);
   }
 
   ForageParams p_;
   std::vector<double> bearings_;  // rad, robot frame, one per ranger beam
-  Mode mode_ = Mode::Search;
-  int leave_steps_ = 0;
-  int wander_steps_ = 0;
-  double turn_ = 0;  // rad/s while wandering
 };
 
 sim::Controller* make_forage(const char* args) {

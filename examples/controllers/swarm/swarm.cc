@@ -52,6 +52,8 @@ class Swarm final : public sim::Controller {
     return true;
   }
 
+  size_t memory_size() const override { return sizeof(SwarmState); }
+
   void update(RobotHandle& robot) override {
     const sim::RangerView scan = robot.ranger(0);
     if (scan.step == UINT64_MAX) return;
@@ -61,15 +63,17 @@ class Swarm final : public sim::Controller {
       for (const sim::FiducialReading& f : robot.fiducial(0).readings)
         in_.neighbours.push_back({f.pose.x, f.pose.y});
     }
-    const SwarmCommand c =
-        swarm_decide(params_, in_, state_, [&](int k) { return robot.uniform(uint64_t(k)); });
+    const SwarmCommand c = swarm_decide(params_, in_, robot.memory_as<SwarmState>(),
+                                        [&](int k) { return robot.uniform(uint64_t(k)); });
     robot.command(Command::velocity(c.v, 0, c.w));
   }
 
  private:
   SwarmParams params_;
+  // Scratch refilled every step (ranges, neighbours) and the beams'
+  // bearings init() derives; what the robot remembers (SwarmState) is the
+  // World's memory.
   SwarmInputs in_;
-  SwarmState state_;
 };
 
 sim::Controller* make_swarm(const char* args) {

@@ -67,7 +67,10 @@ class Wander final : public sim::Controller {
     return true;
   }
 
+  size_t memory_size() const override { return sizeof(Memory); }
+
   void update(RobotHandle& robot) override {
+    Memory& m = robot.memory_as<Memory>();
     const sim::RangerView scan = robot.ranger(uint32_t(ranger_));
     if (scan.step == UINT64_MAX || scan.ranges.size() != beams_) {
       robot.command(Command::velocity(0, 0, 0));  // no data yet
@@ -79,34 +82,39 @@ class Wander final : public sim::Controller {
       return r;
     };
     const double ahead = nearest(ahead_beams_), left = nearest(left_beams_), right = nearest(right_beams_);
-    if (avoiding_ > 0 || ahead < avoid_ || robot.state().stalled) {
-      if (avoiding_ == 0) {
-        direction_ = left > right ? 1.0 : -1.0;
-        avoiding_ = 5 + int(robot.uniform(0) * 10);
+    if (m.avoiding > 0 || ahead < avoid_ || robot.state().stalled) {
+      if (m.avoiding == 0) {
+        m.direction = left > right ? 1.0 : -1.0;
+        m.avoiding = 5 + int(robot.uniform(0) * 10);
       }
-      --avoiding_;
-      robot.command(Command::velocity(0, 0, direction_ * turn_));
+      --m.avoiding;
+      robot.command(Command::velocity(0, 0, m.direction * turn_));
       return;
     }
-    if (--wiggle_ <= 0) {
-      wiggle_ = 20 + int(robot.uniform(1) * 30);
-      bias_ = (robot.uniform(2) - 0.5) * turn_;
+    if (--m.wiggle <= 0) {
+      m.wiggle = 20 + int(robot.uniform(1) * 30);
+      m.bias = (robot.uniform(2) - 0.5) * turn_;
     }
     const double drift = std::clamp(0.5 * (std::min(left, 2.0) - std::min(right, 2.0)), -0.5, 0.5);
-    robot.command(Command::velocity(speed_, 0, drift * turn_ + bias_));
+    robot.command(Command::velocity(speed_, 0, drift * turn_ + m.bias));
   }
 
  private:
+  // What it remembers between steps (the World's bytes; all zero at the
+  // start).
+  struct Memory {
+    int avoiding;      // steps of turning on the spot left
+    double direction;  // of that turn: 1 left, -1 right
+    int wiggle;        // steps until the next random bias
+    double bias;       // rad/s added while cruising
+  };
+
   double speed_, turn_, avoid_;
   int ranger_;
   // The beams (indices into the scan) ahead (within 35 degrees), on the
   // left and on the right.
   std::vector<uint32_t> ahead_beams_, left_beams_, right_beams_;
   size_t beams_ = 0;
-  int avoiding_ = 0;
-  double direction_ = 1;
-  int wiggle_ = 0;
-  double bias_ = 0;
 };
 
 sim::Controller* make_wander(const char* args) {

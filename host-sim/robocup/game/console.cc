@@ -43,6 +43,7 @@ std::string describe(const RefereeEvent& e, const Score& s) {
 }
 
 void Console::print_events() {
+  if (!show_events_) return;
   for (const RefereeEvent& e : sim_.events()) print_(describe(e, sim_.score()));
 }
 

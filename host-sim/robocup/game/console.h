@@ -1,7 +1,6 @@
-// Text commands to a running simulation: what `troupe robocup` reads from
-// a script or its standard input, and the model of the simulation
-// interface requests troupe-sim will serve (start/stop players, score,
-// teleport). One command per line, in the file format's syntax:
+// Text commands to a running simulation: what troupe-sim (and its alias
+// `troupe robocup`) reads from a script or its standard input with a
+// RoboCup world. One command per line, in the file format's syntax:
 //
 //   run SECONDS            step [N]              reset
 //   start ROBOT PLUGIN [key=value ...]           stop ROBOT
@@ -13,8 +12,8 @@
 #include <functional>
 #include <string>
 
-#include "host-sim/robocup/game/statement.h"
 #include "host-sim/robocup/game/simulation.h"
+#include "host-sim/robocup/game/statement.h"
 
 namespace troupe::robocup {
 
@@ -33,12 +32,18 @@ class Console {
 
   /// Steps the simulation, printing referee events as they happen.
   void run_steps(long steps);
+  /// Prints the referee's events of the last cycle (for loops that step
+  /// the simulation themselves), unless show_events(false).
+  void print_events();
+  /// False: referee events are not printed (`--quiet`); what a command
+  /// was asked for (score, state, ...) still is.
+  void show_events(bool on) { show_events_ = on; }
 
  private:
-  void print_events();
   Simulation& sim_;
   Printer print_;
   bool quit_ = false;
+  bool show_events_ = true;
 };
 
 /// "t=12.340 goal yellow (blue 0 : yellow 1)" and the like.

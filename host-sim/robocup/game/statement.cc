@@ -19,7 +19,7 @@ struct Token {
 
 class Lexer {
  public:
-  Lexer(const std::string& text) : text_(text) {}
+  Lexer(const std::string& text, int first_line = 1) : text_(text), line_(first_line) {}
 
   bool next(Token& t, std::string& error) {
     while (pos_ < text_.size()) {
@@ -76,13 +76,13 @@ class Lexer {
 
   const std::string& text_;
   size_t pos_ = 0;
-  int line_ = 1;
+  int line_;
 };
 
 // Commands: words until the end of the line or `;`; no blocks.
-bool parse_lines(const std::string& text, const std::string& name, std::vector<Statement>& out,
-                 std::string& error) {
-  Lexer lex(text);
+bool parse_lines(const std::string& text, const std::string& name, int first_line,
+                 std::vector<Statement>& out, std::string& error) {
+  Lexer lex(text, first_line);
   Token t;
   Statement s;
   auto flush = [&] {
@@ -356,8 +356,8 @@ bool parse_stage_text(const std::string& text, const std::string& file, std::vec
 }
 
 bool parse_commands(const std::string& text, const std::string& name, std::vector<Statement>& out,
-                    std::string& error) {
-  return parse_lines(text, name, out, error);
+                    std::string& error, int first_line) {
+  return parse_lines(text, name, first_line, out, error);
 }
 
 }  // namespace troupe::robocup

@@ -59,8 +59,10 @@ bool parse_stage_text(const std::string& text, const std::string& file, std::vec
 
 /// Console commands: one per line (or `;`), `keyword word ... key=value`,
 /// `#` comments, "quotes" around spaces. False with "name:line: why".
+/// `first_line` numbers text's first line (a console reading one line at
+/// a time says which).
 bool parse_commands(const std::string& text, const std::string& name, std::vector<Statement>& out,
-                    std::string& error);
+                    std::string& error, int first_line = 1);
 
 /// The folder part of a path ("" for a bare file name).
 std::string folder_of(const std::string& path);

@@ -52,6 +52,7 @@ void ServeLoop::step(uint32_t n) {
   for (uint32_t i = 0; i < n && !stop_; ++i) {
     sim_.step();
     server_->publish();
+    if (options_.after_step) options_.after_step();
   }
 }
 

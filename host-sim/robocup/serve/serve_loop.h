@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -30,6 +31,9 @@ struct ServeOptions {
   bool serve = true;
   /// Secure sessions; empty: plain TCP.
   SecureSessions secure;
+  /// Called after every cycle, however it was asked for (the pace or a
+  /// client's step): troupe-sim prints the referee's events there.
+  std::function<void()> after_step;
 };
 
 class ServeLoop {

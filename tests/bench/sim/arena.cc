@@ -62,6 +62,83 @@ world::GrayImage office(double width_m, double height_m, double m_per_px, uint64
   return img;
 }
 
+world::GrayImage campus(int width_px, int height_px, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto between = [&](int lo, int hi) { return hi <= lo ? lo : lo + int(rng() % uint64_t(hi - lo + 1)); };
+  world::GrayImage img;
+  img.width = width_px;
+  img.height = height_px;
+  img.pixels.assign(size_t(width_px) * size_t(height_px), 255);
+  // The site's fence.
+  fill(img, 0, 0, width_px, 1, 0);
+  fill(img, 0, height_px - 1, width_px, height_px, 0);
+  fill(img, 0, 0, 1, height_px, 0);
+  fill(img, width_px - 1, 0, width_px, height_px, 0);
+  // Rooms off a corridor along a building's long side (x here), each with
+  // a door onto it; walls a pixel thick.
+  auto hollow = [&](int x0, int y0, int x1, int y1) {
+    const int mid = (y0 + y1) / 2, half = between(2, 4);
+    fill(img, x0, y0, x1, y0 + 1, 0);
+    fill(img, x0, y1 - 1, x1, y1, 0);
+    fill(img, x0, y0, x0 + 1, y1, 0);
+    fill(img, x1 - 1, y0, x1, y1, 0);
+    fill(img, x0, mid - half, x0 + 1, mid + half, 255);  // entrances at both ends
+    fill(img, x1 - 1, mid - half, x1, mid + half, 255);
+    fill(img, x0, mid - half - 1, x1, mid - half, 0);  // the corridor's walls
+    fill(img, x0, mid + half, x1, mid + half + 1, 0);
+    for (int x = x0 + between(12, 24); x < x1 - 8; x += between(12, 24)) {
+      fill(img, x, y0, x + 1, mid - half, 0);  // the walls between rooms
+      fill(img, x, mid + half, x + 1, y1, 0);
+      fill(img, x - 4, mid - half - 1, x - 2, mid - half, 255);  // their doors
+      fill(img, x - 4, mid + half, x - 2, mid + half + 1, 255);
+    }
+  };
+  // City blocks between roads 10 to 20 px wide; each a solid building (an
+  // L of two wings), a building with rooms, a walled yard, or open lawn.
+  for (int y = between(10, 30); y < height_px - 60;) {
+    const int block_h = between(100, 220);
+    for (int x = between(10, 30); x < width_px - 60;) {
+      const int block_w = between(120, 260);
+      const int x1 = std::min(x + block_w, width_px - 10), y1 = std::min(y + block_h, height_px - 10);
+      const int inset = between(6, 20);
+      switch (rng() % 8) {
+        case 0:
+        case 1:
+        case 2: {
+          const int cx = between(x + inset + 20, x1 - inset - 20),
+                    cy = between(y + inset + 20, y1 - inset - 20);
+          fill(img, x + inset, y + inset, x1 - inset, cy, 0);
+          fill(img, x + inset, cy, cx, y1 - inset, 0);
+          break;
+        }
+        case 3:
+        case 4:
+        case 5:
+          hollow(x + inset, y + inset, x1 - inset, y1 - inset);
+          break;
+        case 6:
+          fill(img, x + inset, y + inset, x1 - inset, y + inset + 1, 0);
+          fill(img, x + inset, y1 - inset - 1, x1 - inset, y1 - inset, 0);
+          fill(img, x + inset, y + inset, x + inset + 1, y1 - inset - 8, 0);  // a gate in the west wall
+          fill(img, x1 - inset - 1, y + inset, x1 - inset, y1 - inset, 0);
+          break;
+        default:
+          break;
+      }
+      x += block_w + between(20, 40);
+    }
+    y += block_h + between(20, 40);
+  }
+  // Trees and lamp posts: a pixel or two, one per ~400 m^2 at 0.5 m a
+  // pixel, on free ground.
+  const size_t trees = size_t(width_px) * size_t(height_px) / 1600;
+  for (size_t i = 0; i < trees; ++i) {
+    const int x = between(2, width_px - 4), y = between(2, height_px - 4), r = between(1, 2);
+    if (img.at(x, y) == 255) fill(img, x, y, x + r, y + r, 0);
+  }
+  return img;
+}
+
 std::vector<sim::Pose> place(const world::GrayImage& map, double m_per_px, size_t count, double clear_m,
                              double spacing_m, uint64_t seed) {
   std::mt19937_64 rng(seed);

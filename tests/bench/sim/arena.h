@@ -16,6 +16,13 @@ namespace troupe::bench {
 /// about 10 x 7.5 m with 1.5 m doors, and scattered pillars. Dark = wall.
 world::GrayImage office(double width_m, double height_m, double m_per_px, uint64_t seed);
 
+/// A campus-like site as a `width_px` x `height_px` image, for Stage's
+/// large.world layout (the SFU campus bitmap on a 1,000 x 700 m
+/// floorplan): city blocks between roads, each a solid building, a
+/// building with rooms off a corridor, a walled yard or open lawn; trees
+/// scattered over the open ground; a fence round the site. Dark = obstacle.
+world::GrayImage campus(int width_px, int height_px, uint64_t seed);
+
 /// `count` poses (world frame, the image centred on the origin) with at
 /// least `clear_m` of free floor around each and `spacing_m` between any
 /// two. Fewer when the floor is full.

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <vector>
 
 #include "host-sim/sim/controller_host.h"
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
 #include "tests/bench/sim/arena.h"
@@ -43,9 +45,16 @@ bool have_shared(const char* row) {
   return false;
 }
 
-std::unique_ptr<World> load(const std::string& path, ControllerHost& host) {
+// Loads a world file as World::load does (seed 1), its static map kept as
+// `storage` says.
+std::unique_ptr<World> load(const std::string& path, ControllerHost& host, sim::MapStorage storage) {
   world::Diagnostics d;
-  auto w = World::load(path, 1, d);
+  sim::WorldDesc desc;
+  std::unique_ptr<World> w;
+  if (sim::load_world_file(path, desc, d)) {
+    desc.map_storage = storage;
+    w = std::make_unique<World>(desc, sim::Random(1));
+  }
   ControllerHost::Options o;
   o.search_path = {TROUPE_PLUGIN_DIR};
   if (!w || !host.load(*w, o, d)) {
@@ -95,6 +104,20 @@ void run_chunks(World& w, ControllerHost& host, int steps, const Settings& s, Su
   }
 }
 
+// World-file lines of ring robots (arena.h's smallbot) at `poses`, named
+// r0, r1, ..., wandering.
+std::string wandering_smallbots(const std::vector<sim::Pose>& poses) {
+  std::string text;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "smallbot ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] ctrl \"wander avoid=0.4\" )\n", i,
+                  poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
+    text += line;
+  }
+  return text;
+}
+
 // The cave of simple.world with `n` Pioneers (laser and sonars) wandering.
 std::string cave_world(const Scratch& dir, int n) {
   world::GrayImage cave;
@@ -124,7 +147,7 @@ bool row_simple(const Settings& s, Summary& out) {
   if (!have_shared("simple")) return false;
   out = {"simple.world", "2 Pioneers, 180-beam 8 m lasers, wander", 0, 0, 0, 440, 5000};
   ControllerHost host;
-  auto w = load(shared("simple.world"), host);
+  auto w = load(shared("simple.world"), host, s.storage);
   if (!w) return false;
   std::printf("== simple.world: %zu robots, %zu controllers\n", w->robot_count(), host.size());
   run_chunks(*w, host, int(10000 * s.scale), s, out);
@@ -144,20 +167,61 @@ bool row_crowd(const Settings& s, Summary& out) {
   std::vector<sim::Pose> poses = place(map, 0.02, 1000, 0.3, 0.8, 3);
   std::string text = "resolution 0.02\ninterval_sim 100\n" + ring_robot_define();
   text += "model ( name \"office\" size [140 60 1] color \"gray30\" bitmap \"office.png\" )\n";
-  for (size_t i = 0; i < poses.size(); ++i) {
-    char line[200];
-    std::snprintf(line, sizeof line,
-                  "smallbot ( name \"r%zu\" pose [ %.3f %.3f 0 %.1f ] ctrl \"wander avoid=0.4\" )\n", i,
-                  poses[i].x, poses[i].y, poses[i].a * 180 / sim::kPi);
-    text += line;
-  }
+  text += wandering_smallbots(poses);
   map = {};
   const double t1 = wall_s();
   ControllerHost host;
-  auto w = load(dir.write("crowd.world", text), host);
+  auto w = load(dir.write("crowd.world", text), host, s.storage);
   if (!w) return false;
+  out.load_s = wall_s() - t1;
   std::printf("== crowd: %zu robots; map generated in %.1f s, world loaded in %.1f s; engine holds %.1f MB\n",
               w->robot_count(), t1 - t0, wall_s() - t1, w->memory_bytes() / 1e6);
+  run_chunks(*w, host, int(200 * s.scale), s, out);
+  return true;
+}
+
+std::string write_campus(const std::string& dir, std::string& err) {
+  // 2,000 x 1,400 px, half a metre each, scaled by the floorplan's size to
+  // 50,000 x 35,000 cells of 0.02 m, as Stage's large.world scales its
+  // campus bitmap.
+  const world::GrayImage map = campus(2000, 1400, 17);
+  const std::string png = (std::filesystem::path(dir) / "campus.png").string();
+  if (!world::write_png(png, map, err)) return "";
+  std::vector<sim::Pose> poses = place(map, 0.5, 1000, 0.3, 0.8, 4);
+  std::string text =
+      "# A campus-sized world (Stage's large.world layout), written by sim_bench --write-campus.\n"
+      "resolution 0.02\ninterval_sim 100\n" +
+      ring_robot_define();
+  text +=
+      "model ( name \"campus\" size [1000 700 1] color \"gray30\" obstacle_return 1 bitmap \"campus.png\" "
+      ")\n";
+  text += wandering_smallbots(poses);
+  const std::string path = (std::filesystem::path(dir) / "campus.world").string();
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+bool row_campus(const Settings& s, Summary& out) {
+  out = {"campus 1000", "1,000 robots, 12-beam 2 m rangers, 1,000 x 700 m at 0.02 m", 0, 0, 0, 0, 0};
+  Scratch dir;
+  std::string err;
+  const std::string path = write_campus(dir.path(""), err);
+  if (path.empty()) {
+    std::printf("campus: %s\n", err.c_str());
+    return false;
+  }
+  const double c0 = cpu_s(), t0 = wall_s();
+  ControllerHost host;
+  auto w = load(path, host, s.storage);
+  if (!w) return false;
+  out.load_s = wall_s() - t0;
+  const sim::StaticMap& map = w->map();
+  std::printf(
+      "== campus: %zu robots; %d x %d cells (%.2f billion), %s; loaded in %.1f s (%.1f CPU s); engine holds "
+      "%.0f MB, the map %.0f MB\n",
+      w->robot_count(), map.width(), map.height(), double(map.width()) * map.height() * 1e-9,
+      map.sparse() ? "sparse" : "dense", out.load_s, cpu_s() - c0, w->memory_bytes() / 1e6,
+      map.memory_bytes() / 1e6);
   run_chunks(*w, host, int(200 * s.scale), s, out);
   return true;
 }
@@ -167,7 +231,7 @@ bool row_cave(const Settings& s, Summary& out) {
   out = {"cave 100", "100 Pioneers, 180-beam 8 m laser + 16 sonars, cave", 0, 0, 0, 2, 20};
   Scratch dir;
   ControllerHost host;
-  auto w = load(cave_world(dir, 100), host);
+  auto w = load(cave_world(dir, 100), host, s.storage);
   if (!w) return false;
   want_all_rangers(*w);  // the sonars too, as a client reading them would
   std::printf("== cave: %zu robots\n", w->robot_count());
@@ -198,6 +262,7 @@ bool row_scale(const Settings& s, Summary& out) {
       name.append(std::to_string(i));
       d.robots.push_back(ring_robot(name, poses[i], "wander avoid=0.4"));
     }
+    d.map_storage = s.storage;
     World w(d, sim::Random(1));
     ControllerHost host;
     world::Diagnostics diags;
@@ -234,7 +299,7 @@ bool row_rays(const Settings& s, Summary& out) {
   out = {"rays", "cave, 100 robots present", 0, 0, 0, 0, 0};
   Scratch dir;
   ControllerHost host;
-  auto w = load(cave_world(dir, 100), host);
+  auto w = load(cave_world(dir, 100), host, s.storage);
   if (!w) return false;
   for (int i = 0; i < 20; ++i) {
     host.update(*w);

@@ -4,12 +4,15 @@
 
 #include <string>
 
+#include "host-sim/sim/desc.h"
+
 namespace troupe::bench {
 
 struct Settings {
-  int repeats = 5;       // timed chunks per row; medians are reported
-  double scale = 1.0;    // multiplies the steps per chunk (0.1 for a quick look)
-  bool baseline = true;  // also time one chunk with per-cell ray casting
+  int repeats = 5;                                  // timed chunks per row; medians are reported
+  double scale = 1.0;                               // multiplies the steps per chunk (0.1 for a quick look)
+  bool baseline = true;                             // also time one chunk with per-cell ray casting
+  sim::MapStorage storage = sim::MapStorage::Auto;  // how static maps keep their cells
 };
 
 struct Summary {
@@ -20,6 +23,7 @@ struct Summary {
   double baseline_rtf = 0;  // per-cell ray casting, same world, same run
   double stage = 0;         // Stage 4.3's figure for this row: given (the issue's), not measured
   double target = 0;        // the target
+  double load_s = 0;        // wall time to load the world file, s (rows that load one)
 };
 
 /// Each returns false when it cannot run (missing data), after saying why.
@@ -28,5 +32,10 @@ bool row_crowd(const Settings& s, Summary& out);
 bool row_cave(const Settings& s, Summary& out);
 bool row_scale(const Settings& s, Summary& out);
 bool row_rays(const Settings& s, Summary& out);
+bool row_campus(const Settings& s, Summary& out);
+
+/// Writes the campus row's world (campus.world and its bitmap campus.png)
+/// into `dir`; its path, or "" with `err` set.
+std::string write_campus(const std::string& dir, std::string& err);
 
 }  // namespace troupe::bench

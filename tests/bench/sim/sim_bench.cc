@@ -7,13 +7,15 @@
 // Stage column is given, not measured: the figure the project was given for
 // Stage 4.3 on this kind of machine, a constant of each row.
 //
-//   sim_bench [simple] [crowd] [cave] [scale] [rays] [--repeats N] [--quick]
+//   sim_bench [simple] [crowd] [cave] [scale] [rays] [campus] [--repeats N] [--quick]
+//   sim_bench --write-campus DIR     (the campus row's world, for troupe-sim)
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -33,14 +35,15 @@ struct Row {
 constexpr Row kRows[] = {
     {"simple", troupe::bench::row_simple}, {"crowd", troupe::bench::row_crowd},
     {"cave", troupe::bench::row_cave},     {"scale", troupe::bench::row_scale},
-    {"rays", troupe::bench::row_rays},
+    {"rays", troupe::bench::row_rays},     {"campus", troupe::bench::row_campus},
 };
 
 // The child's summary travels back through a pipe as one text line.
 void send(int fd, const Summary& s, long peak_kb) {
   char line[512];
-  int n = std::snprintf(line, sizeof line, "%s\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%ld\n", s.row.c_str(),
-                        s.what.c_str(), s.rtf, s.rtf_wall, s.baseline_rtf, s.stage, s.target, peak_kb);
+  int n =
+      std::snprintf(line, sizeof line, "%s\t%s\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%ld\t%.6g\n", s.row.c_str(),
+                    s.what.c_str(), s.rtf, s.rtf_wall, s.baseline_rtf, s.stage, s.target, peak_kb, s.load_s);
   if (n > 0 && write(fd, line, size_t(n)) < 0) std::perror("write");
 }
 
@@ -50,16 +53,40 @@ int main(int argc, char** argv) {
   Settings settings;
   std::vector<std::string> names;
   bool quick = false;
+  std::string campus_dir;
   auto app = troupe::cli::make_app(
-      "sim_bench", {"sim_bench [simple] [crowd] [cave] [scale] [rays] [--repeats N] [--quick]",
-                    "The simulator's performance table: the named rows, or all of them.\n",
-                    {"sim_bench --repeats 3", "sim_bench simple crowd --quick"}});
-  app->add_option("ROW", names, "rows to run")->check(CLI::IsMember({"simple", "crowd", "cave", "scale", "rays"}));
+      "sim_bench",
+      {"sim_bench [simple] [crowd] [cave] [scale] [rays] [campus] [--repeats N] [--quick]",
+       "The simulator's performance table: the named rows, or all of them.\n",
+       {"sim_bench --repeats 3", "sim_bench simple crowd --quick", "sim_bench --write-campus /tmp/campus"}});
+  app->add_option("ROW", names, "rows to run")
+      ->check(CLI::IsMember({"simple", "crowd", "cave", "scale", "rays", "campus"}));
+  const std::map<std::string, troupe::sim::MapStorage> storages = {
+      {"auto", troupe::sim::MapStorage::Auto},
+      {"dense", troupe::sim::MapStorage::Dense},
+      {"sparse", troupe::sim::MapStorage::Sparse}};
+  app->add_option("--map", settings.storage,
+                  "how static maps keep their cells: auto (sparse from 128 Mi cells), dense or sparse")
+      ->transform(CLI::CheckedTransformer(storages, CLI::ignore_case))
+      ->type_name("auto|dense|sparse");
+  app->add_option("--write-campus", campus_dir,
+                  "write the campus row's world (campus.world, campus.png) into DIR and exit")
+      ->type_name("DIR");
   app->add_option("--repeats", settings.repeats, "timed chunks per row; medians are reported (default 5)")
       ->type_name("N")
       ->check(troupe::cli::at_least(1));
   app->add_flag("--quick", quick, "a tenth of the steps, 3 repeats: a short look");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
+  if (!campus_dir.empty()) {
+    std::string err;
+    const std::string path = troupe::bench::write_campus(campus_dir, err);
+    if (path.empty()) {
+      std::fprintf(stderr, "sim_bench: %s\n", err.c_str());
+      return 1;
+    }
+    std::printf("%s\n", path.c_str());
+    return 0;
+  }
   if (quick) {
     settings.scale = 0.1;
     settings.repeats = 3;
@@ -99,25 +126,28 @@ int main(int argc, char** argv) {
     waitpid(pid, &status, 0);
     if (!text.empty()) lines.push_back(text);
   }
-  std::printf("\n%-13s %-55s %11s %11s %9s %8s %8s %8s %9s\n", "row", "work", "sim s/CPU s", "sim s/wall",
-              "per-cell", "x cells", "Stage", "x Stage", "peak MB");
-  std::printf("%-13s %-55s %11s %11s %9s %8s %8s %8s\n", "", "", "", "", "", "", "given", "given");
+  std::printf("\n%-13s %-60s %11s %11s %9s %8s %8s %8s %9s %7s\n", "row", "work", "sim s/CPU s", "sim s/wall",
+              "per-cell", "x cells", "Stage", "x Stage", "peak MB", "load s");
+  std::printf("%-13s %-60s %11s %11s %9s %8s %8s %8s\n", "", "", "", "", "", "", "given", "given");
   for (const std::string& l : lines) {
     char row[64], what[256];
-    double rtf, wall, base, stage, target;
+    double rtf, wall, base, stage, target, load_s;
     long kb;
-    if (std::sscanf(l.c_str(), "%63[^\t]\t%255[^\t]\t%lf\t%lf\t%lf\t%lf\t%lf\t%ld", row, what, &rtf, &wall,
-                    &base, &stage, &target, &kb) != 8) {
+    if (std::sscanf(l.c_str(), "%63[^\t]\t%255[^\t]\t%lf\t%lf\t%lf\t%lf\t%lf\t%ld\t%lf", row, what, &rtf,
+                    &wall, &base, &stage, &target, &kb, &load_s) != 9) {
       continue;
     }
     if (std::string(row) == "rays") {
-      std::printf("%-13s %-55s %9.2f M %11s %7.2f M %7.2fx %8s %8s %9.1f   (rays per CPU second)\n", row,
+      std::printf("%-13s %-60s %9.2f M %11s %7.2f M %7.2fx %8s %8s %9.1f   (rays per CPU second)\n", row,
                   what, rtf, "", base, base > 0 ? rtf / base : 0, "", "", kb / 1024.0);
       continue;
     }
-    std::printf("%-13s %-55s %11.0f %11.0f %9.0f %7.2fx %8.0f %7.1fx %9.1f   target %.0f\n", row, what, rtf,
-                wall, base, base > 0 ? rtf / base : 0, stage, stage > 0 ? rtf / stage : 0, kb / 1024.0,
-                target);
+    char load[16] = "";
+    if (load_s > 0) std::snprintf(load, sizeof load, "%.1f", load_s);
+    char goal[32] = "";  // rows without a target say none
+    if (target > 0) std::snprintf(goal, sizeof goal, "   target %.0f", target);
+    std::printf("%-13s %-60s %11.0f %11.0f %9.0f %7.2fx %8.0f %7.1fx %9.1f %7s%s\n", row, what, rtf, wall,
+                base, base > 0 ? rtf / base : 0, stage, stage > 0 ? rtf / stage : 0, kb / 1024.0, load, goal);
   }
   std::printf(
       "\nStage: given, not measured in this run: the figure the project was given for Stage 4.3 on\n"
