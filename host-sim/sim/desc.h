@@ -5,9 +5,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "host-sim/robocup/physics/world.h"
 #include "host-sim/sim/geometry.h"
 #include "host-sim/world/diagnostics.h"
 #include "host-sim/world/png_image.h"
@@ -59,6 +61,16 @@ struct StaticDesc {
   /// Thin walls along the footprint's edges (Stage's boundary).
   bool boundary = false;
   Appearance look;
+  /// Rigid worlds only: exact shapes (m, with height ranges) of a static
+  /// rigid body in the frame of `pose` + `origin`, that bodies bounce off
+  /// by the world's restitution. Empty: the model is only in the grid (a
+  /// wall that refuses moves into it). Give such a model `look.obstacle`
+  /// false, so the grid leaves collisions to the physics and rays and
+  /// cameras still see it.
+  std::vector<robocup::Shape> rigid_shapes;
+  /// The owner's label for that body (robocup::World::user_data); the
+  /// engine ignores it.
+  uint64_t rigid_user_data = 0;
 };
 
 /// One ranging transducer (a sonar, an IR, or a laser's whole scan).
@@ -207,6 +219,29 @@ struct GripperDesc {
   bool closed = false;
 };
 
+/// A robot's own rigid body in a rigid world (WorldDesc::physics), for what
+/// outline polygons and Stage keys cannot say: a RoboCup robot, a ball.
+struct RigidDesc {
+  /// Exact shapes, robot frame: circles, ellipses and convex polygons (m)
+  /// with height ranges. Empty: the outline polygons, unbounded in height.
+  std::vector<robocup::Shape> shapes;
+  /// About the centre of mass, kg m^2; 0: from the shapes at uniform
+  /// density and RobotDesc::mass.
+  double inertia = 0;
+  /// Slowing by the floor (rolling or sliding friction), m/s^2 and rad/s^2.
+  double linear_deceleration = 0;
+  double angular_deceleration = 0;
+  /// True: every step the engine sets the body's velocity to the one its
+  /// Command asks (a Stage robot on its wheels). False: the body keeps the
+  /// velocity the physics and its owner (through World::rigid()) give it;
+  /// the engine reads it back after the step (a ball; a RoboCup robot whose
+  /// motion plugin drives it).
+  bool driven = true;
+  /// The owner's label for the body (robocup::World::user_data); the engine
+  /// ignores it.
+  uint64_t user_data = 0;
+};
+
 struct RobotDesc {
   std::string name;
   /// A movable object (a Stage model with `gripper_return 1`), not a robot:
@@ -245,6 +280,9 @@ struct RobotDesc {
   std::vector<BumperDesc> bumpers;
   std::vector<CameraDesc> cameras;
   std::vector<GripperDesc> grippers;
+  /// Rigid worlds: the body's own shapes and mass properties. Absent: the
+  /// outline polygons, `mass`, driven unless a puck (pucks slide to rest).
+  std::optional<RigidDesc> rigid;
 
   /// Controller named in the world file ("wander arg1 ..."), and where.
   std::string ctrl;
@@ -314,6 +352,11 @@ struct WorldDesc {
   double speedup = 1;
   /// Worker threads asked for. Results never depend on it.
   int threads = 1;
+  /// Rigid worlds: restitution, friction, contact and impact settings of
+  /// the physics. Its cycle_s is not read: the step is interval_sim. The
+  /// defaults suit robots and pucks, heavy wheeled bases and sliding
+  /// blocks that hardly bounce; a RoboCup world gives its own.
+  robocup::WorldDef rigid{.restitution = 0.1, .friction = 0.3};
   WindowDesc window;
   FloorDesc floor;
   std::vector<StaticDesc> statics;

@@ -164,6 +164,8 @@ struct Engine {
   // motion.cc
   void control();
   void integrate();
+  /// Body b's proposed pose after dt s at its velocity.
+  void integrate_body(Body& b, double dt);
   void odometry();
   // rigid.cc: the rigid-body model's integrate and collide phases
   void build_rigid();
@@ -172,6 +174,13 @@ struct Engine {
   /// Puts robot i's rigid body at its pose, velocity and obstacle flag
   /// (after a teleport, a reset, or a gripper taking or dropping it).
   void sync_rigid(RobotId i);
+  /// An undriven body's velocity from the physics, into bodies[i].vel.
+  void read_rigid_velocity(RobotId i);
+  /// World::rigid_moved().
+  void rigid_moved();
+  robocup::World* rigid_world();
+  robocup::BodyId rigid_body(RobotId i) const;
+  robocup::BodyId rigid_static_body(size_t k) const;
   // gripper.cc
   void update_grippers();
   // collide.cc
@@ -229,7 +238,8 @@ struct Engine {
   /// that it meets before the wall, within `far` m.
   void ray_spans(Vec2 o, Vec2 dir, double wall, double far, int ray, int rays);
 
-  void update_sensors();
+  /// The wanted sensors, each kind timed into its phase.
+  void update_sensors(PhaseLaps& laps);
   void publish_states();
   void outline(RobotId i, const Pose& at, std::vector<Vec2>& verts, std::vector<PolyRef>& polys) const;
 

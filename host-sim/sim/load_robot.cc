@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/loader_internal.h"
 #include "host-sim/world/colors.h"
 
@@ -92,6 +93,25 @@ void Loader::robot(const Entity& e, WorldDesc& out) {
   power(e, r);
   for (const Entity& child : e.children) robot_part(child, {}, r);
   out.robots.push_back(std::move(r));
+}
+
+bool Loader::robot_sensors(const Entity& model, RobotDesc& out) {
+  const size_t errors_before = diags().error_count();
+  read_.set_units(file_.root());
+  // The sensors' bodies would join this outline; the model has its own.
+  RobotDesc read;
+  read.look.height = out.look.height;
+  for (const Entity& c : model.children) {
+    if (is_robot_sensor(c.type)) robot_part(c, {}, read);
+  }
+  auto take = [](auto& to, auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+  take(out.rangers, read.rangers);
+  take(out.blobfinders, read.blobfinders);
+  take(out.fiducials, read.fiducials);
+  take(out.bumpers, read.bumpers);
+  take(out.cameras, read.cameras);
+  take(out.grippers, read.grippers);
+  return diags().error_count() == errors_before;
 }
 
 void Loader::robot_part(const Entity& e, const Pose& parent, RobotDesc& r) {

@@ -59,6 +59,27 @@ ModelKind model_kind(const std::string& type) {
   return ModelKind::Unknown;
 }
 
+bool is_robot_sensor(const std::string& type) {
+  switch (model_kind(type)) {
+    case ModelKind::Ranger:
+    case ModelKind::Laser:
+    case ModelKind::Blobfinder:
+    case ModelKind::Fiducial:
+    case ModelKind::Bumper:
+    case ModelKind::Camera:
+    case ModelKind::Gripper:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model, RobotDesc& out,
+                        world::Diagnostics& diags) {
+  Loader loader(file, diags);
+  return loader.robot_sensors(model, out);
+}
+
 bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags) {
   Loader loader(file, diags);
   return loader.run(out);

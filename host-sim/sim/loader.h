@@ -29,6 +29,20 @@ namespace troupe::sim {
 /// large) go to `diags` with file:line. False when there were errors.
 bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags);
 
+/// True for the Stage sensor models a robot carries (ranger, laser,
+/// blobfinder, fiducial, bumper, camera, gripper): what load_robot_sensors()
+/// reads.
+bool is_robot_sensor(const std::string& type);
+
+/// Reads the Stage sensor models among `model`'s children into out's
+/// sensor lists, in the model's frame, as the loader reads a position
+/// model's: a model of another kind that carries Stage's sensors (a RoboCup
+/// robot) reuses it. Other children, and the sensors' bodies, are left
+/// alone. A camera stands on `out.look.height` (m), the model's height.
+/// False when there were errors (in `diags`, file:line).
+bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model, RobotDesc& out,
+                        world::Diagnostics& diags);
+
 /// Reads, parses and converts a world file.
 bool load_world_file(const std::string& path, WorldDesc& out, world::Diagnostics& diags);
 

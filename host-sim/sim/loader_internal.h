@@ -44,6 +44,8 @@ class Loader {
  public:
   Loader(const world::WorldFile& file, world::Diagnostics& diags) : file_(file), read_(diags) {}
   bool run(WorldDesc& out);
+  /// load_robot_sensors().
+  bool robot_sensors(const world::Entity& model, RobotDesc& out);
 
  private:
   world::Diagnostics& diags() { return read_.diags(); }

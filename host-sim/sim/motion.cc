@@ -86,29 +86,31 @@ void Engine::control() {
 
 void Engine::integrate() {
   const double dt = desc.interval_sim;
-  for (Body& b : bodies) {
-    const double vx = b.vel.x, vy = b.vel.y, w = b.vel.a;
-    if (vx == 0 && vy == 0 && w == 0) {
-      b.proposed = b.pose;
-      b.moved = false;
-      continue;
-    }
-    // Exact motion under a constant body twist: the displacement in the
-    // starting frame, then rotated into the world.
-    double dx, dy;
-    const double th = w * dt;
-    if (std::fabs(th) < 1e-9) {
-      dx = vx * dt;
-      dy = vy * dt;
-    } else {
-      const double s = std::sin(th) / w, c = (1 - std::cos(th)) / w;
-      dx = s * vx - c * vy;
-      dy = c * vx + s * vy;
-    }
-    const double ca = std::cos(b.pose.a), sa = std::sin(b.pose.a);
-    b.proposed = {b.pose.x + ca * dx - sa * dy, b.pose.y + sa * dx + ca * dy, wrap_angle(b.pose.a + th)};
-    b.moved = true;
+  for (Body& b : bodies) integrate_body(b, dt);
+}
+
+void Engine::integrate_body(Body& b, double dt) {
+  const double vx = b.vel.x, vy = b.vel.y, w = b.vel.a;
+  if (vx == 0 && vy == 0 && w == 0) {
+    b.proposed = b.pose;
+    b.moved = false;
+    return;
   }
+  // Exact motion under a constant body twist: the displacement in the
+  // starting frame, then rotated into the world.
+  double dx, dy;
+  const double th = w * dt;
+  if (std::fabs(th) < 1e-9) {
+    dx = vx * dt;
+    dy = vy * dt;
+  } else {
+    const double s = std::sin(th) / w, c = (1 - std::cos(th)) / w;
+    dx = s * vx - c * vy;
+    dy = c * vx + s * vy;
+  }
+  const double ca = std::cos(b.pose.a), sa = std::sin(b.pose.a);
+  b.proposed = {b.pose.x + ca * dx - sa * dy, b.pose.y + sa * dx + ca * dy, wrap_angle(b.pose.a + th)};
+  b.moved = true;
 }
 
 void Engine::odometry() {

@@ -6,6 +6,10 @@
 // stay in the static map: a body whose move would cross an obstacle cell
 // (the kinematic model's swept test) is put back and stopped, so is one
 // that would move into a body put back, and a robot so stopped stalls.
+// Statics with rigid shapes are static bodies instead (a RoboCup field's
+// barrier, goals and posts, which a ball bounces off); robots with a
+// RigidDesc bring their exact shapes and mass properties, and undriven ones
+// keep the velocity their owner (World::rigid()) and the impacts give them.
 #include <cmath>
 #include <string>
 
@@ -22,14 +26,14 @@ struct RigidBodies {
   std::vector<robocup::BodyId> ids;
   /// The engine body's shapes, body frame, kept to recreate it.
   std::vector<std::vector<robocup::Shape>> shapes;
+  /// Per engine body: the engine sets its velocity from its command.
+  std::vector<uint8_t> driven;
+  /// One per static model; kNoBody for one without rigid shapes.
+  std::vector<robocup::BodyId> static_ids;
 };
 
 namespace {
 
-// Impacts between robots and pucks hardly bounce: robots are heavy wheeled
-// bases and pucks slide, they are not balls.
-constexpr double kRestitution = 0.1;
-constexpr double kFriction = 0.3;
 // A pushed puck slides to rest by floor friction, m/s^2 and rad/s^2.
 constexpr double kPuckDeceleration = 2.0;
 constexpr double kPuckSpinDeceleration = 4.0;
@@ -41,14 +45,34 @@ void RigidBodiesDelete::operator()(RigidBodies* r) const {
 }
 
 void Engine::build_rigid() {
-  robocup::WorldDef def;
+  robocup::WorldDef def = desc.rigid;
   def.cycle_s = desc.interval_sim;
-  def.restitution = kRestitution;
-  def.friction = kFriction;
   rigid.reset(new RigidBodies(def));
+  // Statics before robots: bodies are made in the description's order, so
+  // a world described in the order of an older one steps as it did.
+  for (const StaticDesc& s : desc.statics) {
+    robocup::BodyId id = robocup::kNoBody;
+    if (!s.rigid_shapes.empty()) {
+      robocup::BodyDef d;
+      d.pose = compose(s.pose, s.origin);
+      d.shapes = s.rigid_shapes;
+      d.user_data = s.rigid_user_data;
+      std::string why;
+      // A static whose shapes are invalid stays a grid model only.
+      id = rigid->world.create_body(d, why);
+    }
+    rigid->static_ids.push_back(id);
+  }
   rigid->ids.assign(bodies.size(), robocup::kNoBody);
   for (RobotId i = 0; i < bodies.size(); ++i) {
     const Body& b = bodies[i];
+    const RobotDesc& rd = desc.robots[i];
+    rigid->driven.push_back(rd.rigid ? rd.rigid->driven : !rd.puck);
+    if (rd.rigid && !rd.rigid->shapes.empty()) {
+      rigid->shapes.push_back(rd.rigid->shapes);
+      sync_rigid(i);
+      continue;
+    }
     std::vector<robocup::Shape> shapes;
     for (uint32_t k = 0; k < b.poly_count; ++k) {
       const PolyRef& p = polys[b.poly_first + k];
@@ -80,13 +104,19 @@ void Engine::sync_rigid(RobotId i) {
     r.ids[i] = robocup::kNoBody;
     return;
   }
+  const RobotDesc& rd = desc.robots[i];
   if (!w.valid(r.ids[i])) {
     robocup::BodyDef def;
     def.pose = b.pose;
-    def.mass = desc.robots[i].mass;
+    def.mass = rd.mass;
     def.shapes = r.shapes[i];
     def.user_data = i;
-    if (desc.robots[i].puck) {
+    if (rd.rigid) {
+      def.inertia = rd.rigid->inertia;
+      def.linear_deceleration = rd.rigid->linear_deceleration;
+      def.angular_deceleration = rd.rigid->angular_deceleration;
+      def.user_data = rd.rigid->user_data;
+    } else if (rd.puck) {
       def.linear_deceleration = kPuckDeceleration;
       def.angular_deceleration = kPuckSpinDeceleration;
     }
@@ -95,6 +125,9 @@ void Engine::sync_rigid(RobotId i) {
     // The shapes were validated when made; a body that still cannot be
     // made moves kinematically (through other bodies), as if no obstacle.
     if (!w.valid(r.ids[i])) return;
+    // A described body starts as its definition says: at rest, where it
+    // stands, touched by no further call (its owner's calls come next).
+    if (rd.rigid && b.vel.x == 0 && b.vel.y == 0 && b.vel.a == 0) return;
   }
   w.set_pose(r.ids[i], b.pose);
   const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
@@ -103,12 +136,14 @@ void Engine::sync_rigid(RobotId i) {
 
 void Engine::rigid_integrate() {
   // Bodies without a rigid body (no obstacle) move as in the kinematic
-  // model; the others are overwritten below.
-  integrate();
+  // model; the physics moves the others.
   RigidBodies& r = *rigid;
   robocup::World& w = r.world;
   for (RobotId i = 0; i < bodies.size(); ++i) {
-    if (desc.robots[i].puck || !w.valid(r.ids[i])) continue;
+    if (!w.valid(r.ids[i])) integrate_body(bodies[i], desc.interval_sim);
+  }
+  for (RobotId i = 0; i < bodies.size(); ++i) {
+    if (!r.driven[i] || !w.valid(r.ids[i])) continue;
     const Body& b = bodies[i];
     const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
     w.set_origin_velocity(r.ids[i], {c * b.vel.x - s * b.vel.y, s * b.vel.x + c * b.vel.y, b.vel.a});
@@ -120,13 +155,43 @@ void Engine::rigid_integrate() {
     const Pose p = w.pose(r.ids[i]);
     b.proposed = {p.x, p.y, wrap_angle(p.a)};
     b.moved = b.proposed.x != b.pose.x || b.proposed.y != b.pose.y || b.proposed.a != b.pose.a;
-    if (desc.robots[i].puck) {
-      // A puck's velocity is what the impacts gave it, in its own frame.
-      const robocup::Twist v = w.velocity(r.ids[i]);
-      const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
-      b.vel = {c * v.vx + s * v.vy, -s * v.vx + c * v.vy, v.w};
-    }
+    if (!r.driven[i]) read_rigid_velocity(i);
   }
+}
+
+void Engine::read_rigid_velocity(RobotId i) {
+  // What the impacts and the owner gave it (its centre of mass's), in its
+  // own frame.
+  const robocup::Twist v = rigid->world.velocity(rigid->ids[i]);
+  Body& b = bodies[i];
+  const double c = std::cos(b.pose.a), s = std::sin(b.pose.a);
+  b.vel = {c * v.vx + s * v.vy, -s * v.vx + c * v.vy, v.w};
+}
+
+void Engine::rigid_moved() {
+  RigidBodies& r = *rigid;
+  for (RobotId i = 0; i < bodies.size(); ++i) {
+    if (!r.world.valid(r.ids[i])) continue;
+    Body& b = bodies[i];
+    const Pose p = r.world.pose(r.ids[i]);
+    b.pose = b.proposed = {p.x, p.y, wrap_angle(p.a)};
+    b.moved = false;
+    if (!r.driven[i]) read_rigid_velocity(i);
+  }
+  publish_states();
+  broadphase();
+}
+
+robocup::World* Engine::rigid_world() {
+  return rigid ? &rigid->world : nullptr;
+}
+
+robocup::BodyId Engine::rigid_body(RobotId i) const {
+  return rigid && i < rigid->ids.size() ? rigid->ids[i] : robocup::kNoBody;
+}
+
+robocup::BodyId Engine::rigid_static_body(size_t k) const {
+  return rigid && k < rigid->static_ids.size() ? rigid->static_ids[k] : robocup::kNoBody;
 }
 
 void Engine::rigid_collide() {
@@ -136,8 +201,9 @@ void Engine::rigid_collide() {
   // Moves into a wall are refused; then, until nothing changes, so are
   // moves into a body whose move was refused (a puck pinned to a wall stops
   // the robot pushing it, rather than letting the robot into it).
+  const bool walls = map.has_obstacles();
   for (RobotId i = 0; i < n; ++i)
-    accept[i] = !bodies[i].moved || !hits_static(i, bodies[i].pose, bodies[i].proposed);
+    accept[i] = !bodies[i].moved || !walls || !hits_static(i, bodies[i].pose, bodies[i].proposed);
   for (bool changed = true; changed;) {
     changed = false;
     for (RobotId i = 0; i < n; ++i) {

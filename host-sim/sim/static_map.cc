@@ -44,6 +44,7 @@ uint8_t StaticMap::combined(uint8_t code, uint8_t add) {
 void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage) {
   res_ = resolution;
   inv_res_ = 1.0 / resolution;
+  has_obstacles_ = false;
   origin_ = lo;
   w_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_res_)));
   h_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_res_)));
@@ -88,6 +89,7 @@ void StaticMap::mark(int ix, int iy, uint8_t add) {
 }
 
 void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
+  has_obstacles_ = has_obstacles_ || obstacle;
   double x0 = (lo.x - origin_.x) * inv_res_, x1 = (hi.x - origin_.x) * inv_res_;
   double y0 = (lo.y - origin_.y) * inv_res_, y1 = (hi.y - origin_.y) * inv_res_;
   int ix0 = int(std::floor(x0 + kEdgeSlack)), ix1 = int(std::ceil(x1 - kEdgeSlack)) - 1;
@@ -107,6 +109,7 @@ void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
 }
 
 void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool visible) {
+  has_obstacles_ = has_obstacles_ || obstacle;
   const size_t n = poly.size();
   const uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
   if (n == 0 || add == 0) return;

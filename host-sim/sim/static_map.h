@@ -134,6 +134,9 @@ class StaticMap {
   Vec2 origin() const { return origin_; }
   uint8_t code(int ix, int iy) const { return codes_[index(ix, iy)]; }
   bool occupied(int ix, int iy) const { return code(ix, iy) <= kBarrier; }
+  /// Some cell is an obstacle (a world whose walls are all rigid bodies
+  /// has none: its moves need no test against the grid).
+  bool has_obstacles() const { return has_obstacles_; }
   /// True when block (bx, by), cells [kTile bx, kTile bx + kTile) on each
   /// axis, holds no occupied cell; false before finish(). Lets a walk over
   /// every cell (a snapshot) pass a campus's open ground a block at a time.
@@ -187,6 +190,7 @@ class StaticMap {
   int blocks_h_ = 1;
   bool use_coarse_ = false;
   bool per_cell_ = false;
+  bool has_obstacles_ = false;
 };
 
 }  // namespace troupe::sim

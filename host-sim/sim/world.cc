@@ -19,75 +19,69 @@ std::unique_ptr<World> World::load(const std::string& path, uint64_t seed, world
   return std::make_unique<World>(desc, Random(seed));
 }
 
-void Engine::update_sensors() {
-  {
-    PhaseTimer t(profile, ph_rangers);
+void Engine::update_sensors(PhaseLaps& laps) {
+  // A kind no robot carries costs no clock reading (a RoboCup world has
+  // none of them unless its robots carry Stage sensors).
+  if (!rangers.empty()) {
     update_rangers();
+    laps.lap(ph_rangers);
   }
-  {
-    PhaseTimer t(profile, ph_blobfinders);
+  if (!blobfinders.empty()) {
     update_blobfinders();
+    laps.lap(ph_blobfinders);
   }
-  {
-    PhaseTimer t(profile, ph_fiducials);
+  if (!fiducials.empty()) {
     update_fiducials();
+    laps.lap(ph_fiducials);
   }
-  {
-    PhaseTimer t(profile, ph_bumpers);
+  if (!bumpers.empty()) {
     update_bumpers();
+    laps.lap(ph_bumpers);
   }
-  {
-    PhaseTimer t(profile, ph_cameras);
+  if (!cameras.empty()) {
     update_cameras();
+    laps.lap(ph_cameras);
   }
 }
 
 void World::step() {
   Engine& e = *e_;
-  {
-    PhaseTimer t(e.profile, e.ph_control);
-    e.control();
-  }
+  PhaseLaps laps(e.profile);
+  e.control();
+  laps.lap(e.ph_control);
   // The motion model is chosen once per phase, never per robot.
-  {
-    PhaseTimer t(e.profile, e.ph_integrate);
-    if (e.rigid) {
-      e.rigid_integrate();
-    } else {
-      e.integrate();
-    }
+  if (e.rigid) {
+    e.rigid_integrate();
+  } else {
+    e.integrate();
   }
-  {
-    PhaseTimer t(e.profile, e.ph_broadphase);
-    e.broadphase();
+  laps.lap(e.ph_integrate);
+  e.broadphase();
+  laps.lap(e.ph_broadphase);
+  if (e.rigid) {
+    e.rigid_collide();
+  } else {
+    e.collide();
   }
-  {
-    PhaseTimer t(e.profile, e.ph_collide);
-    if (e.rigid) {
-      e.rigid_collide();
-    } else {
-      e.collide();
-    }
-  }
+  laps.lap(e.ph_collide);
   if (!e.grippers.empty()) {
-    PhaseTimer t(e.profile, e.ph_grippers);
     e.update_grippers();
+    laps.lap(e.ph_grippers);
   }
-  {
-    PhaseTimer t(e.profile, e.ph_odometry);
-    e.odometry();
-    e.publish_states();
-  }
+  e.odometry();
+  e.publish_states();
+  laps.lap(e.ph_odometry);
   ++e.steps;
   // From the step count, so the clock does not drift by summing.
   e.time = double(e.steps) * e.desc.interval_sim;
-  e.update_sensors();
+  e.update_sensors(laps);
   e.profile.count_step();
 }
 
 void World::refresh_sensors() {
   e_->broadphase();
-  e_->update_sensors();
+  PhaseLaps laps(e_->profile);
+  e_->update_sensors(laps);
 }
 
 void World::reset() {
@@ -324,6 +318,22 @@ std::vector<std::vector<Vec2>> World::outline(RobotId id) const {
   std::vector<std::vector<Vec2>> out;
   for (const PolyRef& r : p) out.emplace_back(v.begin() + r.first, v.begin() + r.first + r.count);
   return out;
+}
+
+robocup::World* World::rigid() {
+  return e_->rigid_world();
+}
+
+robocup::BodyId World::rigid_body(RobotId id) const {
+  return e_->rigid_body(id);
+}
+
+robocup::BodyId World::rigid_static_body(size_t index) const {
+  return e_->rigid_static_body(index);
+}
+
+void World::rigid_moved() {
+  if (e_->rigid) e_->rigid_moved();
 }
 
 const StaticMap& World::map() const {

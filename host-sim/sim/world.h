@@ -25,6 +25,11 @@
 #include "host-sim/sim/random.h"
 #include "host-sim/world/diagnostics.h"
 
+namespace troupe::robocup {
+class World;
+struct BodyId;
+}  // namespace troupe::robocup
+
 namespace troupe::sim {
 
 class StaticMap;
@@ -259,6 +264,24 @@ class World {
   /// which is then carried) or opens (dropping it where it is) the paddles
   /// at the next step.
   void set_gripper(uint32_t index, bool closed);
+
+  // ---- The rigid-body world -------------------------------------------------
+
+  /// Rigid worlds (WorldDesc::physics): the one rigid-body world the step
+  /// moves bodies in, for a game layer on top (RoboCup mode) to cast rays,
+  /// kick, teleport and reshape the same bodies. nullptr in a kinematic
+  /// world. Velocities set on undriven bodies (RigidDesc::driven false) are
+  /// kept into the next step; after moving bodies itself (a teleport), the
+  /// game layer calls rigid_moved().
+  robocup::World* rigid();
+  /// The rigid body of robot `id`, or of the static model `index` (in
+  /// WorldDesc::statics); robocup::kNoBody where it has none.
+  robocup::BodyId rigid_body(RobotId id) const;
+  robocup::BodyId rigid_static_body(size_t index) const;
+  /// Takes every rigid body's pose, and the undriven ones' velocities, into
+  /// the robots' states, so states and sensors follow what the game layer
+  /// did to the rigid world. Nothing in a kinematic world.
+  void rigid_moved();
 
   // ---- Controller memory ------------------------------------------------------
 

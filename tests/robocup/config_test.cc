@@ -64,9 +64,12 @@ TEST(StageWorld, ErrorsNameFileAndLine) {
   EXPECT_EQ(parse_error("\ngoal ( x 1 )\n"),
             "t.world:2: 'goal' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
   EXPECT_EQ(parse_error("robocup_robot ( team \"blue\" )\n"), "t.world:1: a robocup_robot needs a name");
-  EXPECT_EQ(parse_error("robocup_robot ( name \"r\" pose [1 2 3] )\n"), "t.world:1: pose: expected [x y z a]");
-  EXPECT_EQ(parse_error("robocup_robot ( name \"r\" wheel ( ) )\n"),
-            "t.world:1: 'wheel' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
+  EXPECT_EQ(parse_error("robocup_robot ( name \"r\" pose [1 2 3] )\n"),
+            "t.world:1: pose: expected [x y z a]");
+  EXPECT_EQ(
+      parse_error("robocup_robot ( name \"r\" wheel ( ) )\n"),
+      "t.world:1: 'wheel' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player, or a "
+      "Stage sensor: ranger, laser, camera, fiducial, blobfinder, bumper, gripper)");
 }
 
 TEST(StageWorld, IncludesAreRelativeToTheIncludingFile) {
@@ -118,8 +121,9 @@ std::string robot_error(const std::string& body) {
 TEST(WorldFile, BadValuesAndUnknownKeysSayWhere) {
   EXPECT_NE(world_error("interval_sim 0\n").find("test.world:1: world: option 'cycle': must be in"),
             std::string::npos);
-  EXPECT_NE(world_error("\nrobocup_field ( lenght 9 )\n").find("test.world:2: field: unknown option 'lenght'"),
-            std::string::npos);
+  EXPECT_NE(
+      world_error("\nrobocup_field ( lenght 9 )\n").find("test.world:2: field: unknown option 'lenght'"),
+      std::string::npos);
   EXPECT_NE(world_error("ball ( radius \"big\" )\n").find("option 'radius': expected a number, got 'big'"),
             std::string::npos);
   EXPECT_NE(world_error("robocup_robot ( name \"r\" team \"red\" shape ( kind \"circle\" r 0.2 ) )\n")
@@ -169,15 +173,18 @@ TEST(RobotFile, ShapesKickerAndPluginsAreRead) {
 
 TEST(RobotFile, BadShapesAndKickersSayWhere) {
   const std::string circle = "shape ( kind \"circle\" r 0.2 )\n";
-  EXPECT_NE(robot_error("shape ( kind \"hexagon\" r 1 )\n").find("test.world:2: shape: unknown shape 'hexagon'"),
-            std::string::npos);
+  EXPECT_NE(
+      robot_error("shape ( kind \"hexagon\" r 1 )\n").find("test.world:2: shape: unknown shape 'hexagon'"),
+      std::string::npos);
   EXPECT_NE(robot_error("shape ( kind \"polygon\" points [0 0 1 1 1 0 0 1] )\n").find("not strictly convex"),
             std::string::npos);
   EXPECT_NE(robot_error("shape ( kind \"rect\" length 1 )\n").find("a rect needs length= and width="),
             std::string::npos);
-  EXPECT_NE(robot_error("shape ( kind \"circle\" r 0.2 z [0.5 0.1] )\n").find("option 'z'"), std::string::npos);
-  EXPECT_NE(robot_error(circle + "kicker ( state ( name \"rest\" ) )\n").find("a rest state and a kick state"),
+  EXPECT_NE(robot_error("shape ( kind \"circle\" r 0.2 z [0.5 0.1] )\n").find("option 'z'"),
             std::string::npos);
+  EXPECT_NE(
+      robot_error(circle + "kicker ( state ( name \"rest\" ) )\n").find("a rest state and a kick state"),
+      std::string::npos);
   EXPECT_NE(robot_error(circle + "kicker ( state ( name \"a\" next \"c\" ) state ( name \"b\" ) )\n")
                 .find("no state named 'c'"),
             std::string::npos);

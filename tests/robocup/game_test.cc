@@ -56,6 +56,30 @@ TEST(Kicker, KicksAlongItsDirection) {
   EXPECT_NEAR(sim->ball().velocity.y, 6, 1e-9);
 }
 
+// The simulation runs on the one engine: its robots are the ball and the
+// RoboCup robots, whose states follow the bodies the game layer moves.
+TEST(OneWorld, TheEnginesRobotsAreTheBallAndTheRobotsAndFollowTheGame) {
+  auto sim = kicker_world();
+  sim::World& engine = sim->engine();
+  ASSERT_EQ(engine.robot_count(), 2u);
+  EXPECT_EQ(engine.robot(0).name, "ball");
+  EXPECT_EQ(engine.robot(1).name, "r");
+  EXPECT_EQ(engine.rigid(), &sim->physics());
+  EXPECT_EQ(engine.rigid_body(0), sim->ball_body());
+  EXPECT_EQ(engine.rigid_body(1), sim->robot_body(0));
+  // A teleport shows at once; a kicked ball's motion after the cycle.
+  sim->place_ball({0.25 + 0.11 + 0.005, 0}, {});
+  EXPECT_EQ(engine.state(0).pose.x, 0.25 + 0.11 + 0.005);
+  sim->place_robot(0, {0, 0.5, 1});
+  EXPECT_EQ(engine.state(1).pose.y, 0.5);
+  sim->place_robot(0, {0, 0, 0});
+  sim->kick(0);
+  sim->step();
+  EXPECT_EQ(engine.state(0).pose.x, sim->ball().position.x);
+  EXPECT_NEAR(engine.state(0).velocity.x, 300 * 0.02, 1e-9);
+  EXPECT_EQ(engine.steps(), 1u);
+}
+
 TEST(Broadcast, PlayersHearEachOtherAndTheNearestChases) {
   std::string error;
   const std::string drive = "  motion_plugin ( plugin \"diff_drive\" )\n";

@@ -1,5 +1,6 @@
 #include "host-sim/robocup/game/simulation.h"
 
+#include "host-sim/robocup/game/world_desc.h"
 #include "runtime/log.h"
 
 namespace troupe::robocup {
@@ -24,10 +25,11 @@ uint64_t mix(uint64_t x) {
 
 }  // namespace
 
-Simulation::Simulation(WorldSpec spec, PluginLoader loader)
+Simulation::Simulation(WorldSpec spec, PluginLoader loader, std::unique_ptr<sim::World> engine)
     : spec_(std::move(spec)),
       loader_(std::move(loader)),
-      world_(spec_.physics),
+      engine_(std::move(engine)),
+      world_(*engine_->rigid()),
       geometry_(field_geometry(spec_.field)),
       referee_(spec_.field, spec_.referee) {}
 
@@ -39,7 +41,8 @@ Simulation::~Simulation() {
 
 std::unique_ptr<Simulation> Simulation::create(WorldSpec spec, PluginLoader loader, std::string& error) {
   loader.prepend_path(spec.plugin_path);
-  std::unique_ptr<Simulation> sim(new Simulation(std::move(spec), std::move(loader)));
+  auto engine = std::make_unique<sim::World>(world_desc(spec), sim::Random(spec.seed));
+  std::unique_ptr<Simulation> sim(new Simulation(std::move(spec), std::move(loader), std::move(engine)));
   if (!sim->build(error)) return nullptr;
   return sim;
 }
@@ -54,42 +57,28 @@ Rng Simulation::rng_for(std::string_view robot, std::string_view instance) const
 }
 
 bool Simulation::build(std::string& error) {
-  build_field(spec_.field, world_, field_bodies_);
-  BodyDef ball;
-  ball.pose = {spec_.ball.start.x, spec_.ball.start.y, 0};
-  ball.mass = spec_.ball.mass;
-  // A solid sphere rolling on the carpet.
-  ball.inertia = 0.4 * spec_.ball.mass * spec_.ball.radius * spec_.ball.radius;
-  ball.linear_deceleration = spec_.ball.deceleration;
-  ball.angular_deceleration = spec_.ball.deceleration / spec_.ball.radius;
-  ball.shapes = {with_height(make_circle({0, 0}, spec_.ball.radius), 0, 2 * spec_.ball.radius)};
-  ball.user_data = make_user_data(kBallTag, 0);
-  ball_ = world_.create_body(ball, error);
+  // world_desc() made the field's statics, the ball (robot 0) and the
+  // robots, in that order: the engine made their rigid bodies.
+  for (size_t k = 0; k < engine_->desc().statics.size(); ++k)
+    field_bodies_.push_back(engine_->rigid_static_body(k));
+  ball_ = engine_->rigid_body(0);
   if (!world_.valid(ball_)) {
-    error = spec_.file + ": ball: " + error;
+    error = spec_.file + ": ball: its rigid body cannot be made (radius, mass)";
     return false;
   }
-  for (const RobotEntry& e : spec_.robots) {
+  for (size_t k = 0; k < spec_.robots.size(); ++k) {
+    const RobotEntry& e = spec_.robots[k];
     Robot r;
     r.name = e.name;
     r.team = e.team;
     r.start = e.start;
     r.spec = e.spec;
-    BodyDef d;
-    d.pose = e.start;
-    d.mass = e.spec.mass;
-    d.inertia = e.spec.inertia;
-    d.shapes = e.spec.shapes;
-    if (e.spec.has_kicker) {
-      for (const Shape& s : e.spec.kicker.states[0].shapes) d.shapes.push_back(s);
-    }
-    d.user_data = make_user_data(kRobotTag, uint32_t(robots_.size()));
-    r.body = world_.create_body(d, error);
+    r.body = engine_->rigid_body(sim::RobotId(k + 1));
     if (!world_.valid(r.body)) {
-      error = e.where + ": robot " + e.name + ": " + error;
+      error = e.where + ": robot " + e.name + ": its rigid body cannot be made (shapes, mass, inertia)";
       return false;
     }
-    for (const Shape& s : d.shapes) r.radius = std::max(r.radius, reach_from(s, {0, 0}));
+    for (const Shape& s : world_.shapes(r.body)) r.radius = std::max(r.radius, reach_from(s, {0, 0}));
     robots_.push_back(std::move(r));
   }
   for (size_t i = 0; i < robots_.size(); ++i) add_robot(spec_.robots[i]);
@@ -209,54 +198,38 @@ BodyId Simulation::robot_body(int robot) const {
   return robot >= 0 && robot < robot_count() ? robots_[size_t(robot)].body : kNoBody;
 }
 
-std::vector<Shape> Simulation::robot_shapes(const Robot& r) const {
-  std::vector<Shape> shapes = r.spec.shapes;
-  if (r.spec.has_kicker) {
-    for (const Shape& s : r.spec.kicker.states[size_t(r.kicker_state)].shapes) shapes.push_back(s);
-  }
-  return shapes;
-}
-
 void Simulation::set_kicker_state(Robot& r, int state) {
   r.kicker_state = state;
   r.kicker_since_s = time_s();
   std::string error;
-  world_.set_shapes(r.body, robot_shapes(r), error);  // validated when the robot file was read
+  world_.set_shapes(r.body, robot_shapes(r.spec, state), error);  // validated when the robot file was read
 }
 
 void Simulation::step() {
-  // Each phase's timer ends where the next one starts (a scope per phase).
-  {
-    sim::PhaseTimer timer(profile_, ph_players_);
-    run_players();
-  }
-  {
-    sim::PhaseTimer timer(profile_, ph_motion_);
-    run_motion();
-  }
-  {
-    sim::PhaseTimer timer(profile_, ph_kickers_);
-    run_kickers();
-  }
-  {
-    sim::PhaseTimer timer(profile_, ph_physics_);
-    world_.step();
-  }
-  {
-    sim::PhaseTimer timer(profile_, ph_referee_);
-    run_referee();
-  }
-  {
-    sim::PhaseTimer timer(profile_, ph_sensors_);
-    run_sensors();
-  }
+  // Each phase's time ends where the next one starts.
+  sim::PhaseLaps laps(profile_);
+  run_players();
+  laps.lap(ph_players_);
+  run_motion();
+  laps.lap(ph_motion_);
+  run_kickers();
+  laps.lap(ph_kickers_);
+  engine_->step();
+  laps.lap(ph_physics_);
+  run_referee();
+  laps.lap(ph_referee_);
+  run_sensors();
+  laps.lap(ph_sensors_);
   inbox_.swap(outbox_);
   outbox_.clear();
   profile_.count_step();
 }
 
 std::string Simulation::profile_table() const {
-  return profile_.table() + "physics, by phase:\n" + world_.profile().table();
+  // The physics phase is the engine's step; its integrate phase holds the
+  // rigid-body step.
+  return profile_.table() + "physics, by phase:\n" + engine_->profile().table() +
+         "rigid bodies (in integrate), by phase:\n" + world_.profile().table();
 }
 
 void Simulation::run_for(double seconds) {
@@ -274,6 +247,7 @@ void Simulation::reset() {
   }
   world_.set_pose(ball_, {spec_.ball.start.x, spec_.ball.start.y, 0});
   world_.set_velocity(ball_, {});
+  engine_->rigid_moved();
 }
 
 }  // namespace troupe::robocup

@@ -1,5 +1,7 @@
-// The RoboCup simulation: a field, a ball, robots with their plugins and a
-// referee over the rigid-body world, run in fixed cycles. This is the
+// The RoboCup simulation: the game layer (players, motion plugins, kickers,
+// referee, sensor plugins) over the one engine's world (sim::World in rigid
+// mode, built by world_desc()), which owns the field, the ball and the
+// robots as rigid bodies, run in fixed cycles. This is the
 // integration point for troupe-sim: one Simulation per RoboCup world, its
 // robots' readings and commands mapped onto devices, its score and game
 // state onto the simulation interface (README.md, "Serving it").
@@ -10,7 +12,8 @@
 //            and acts (command, kick, messages)
 //   motion   each robot's motion plugin turns its command into velocity
 //   kickers  kicker states advance; a kick pushes a touching ball
-//   physics  the rigid-body step (impacts, restitution, friction)
+//   physics  the engine's step: the rigid-body step (impacts, restitution,
+//            friction), then the engine's own wanted sensors
 //   referee  goals, ball out, resets
 //   sensors  each sensor plugin measures the new state
 #pragma once
@@ -24,6 +27,7 @@
 #include "host-sim/robocup/game/plugin_loader.h"
 #include "host-sim/robocup/game/world_spec.h"
 #include "host-sim/sim/profile.h"
+#include "host-sim/sim/world.h"
 
 namespace troupe::robocup {
 
@@ -80,16 +84,20 @@ class Simulation final : public WorldControl {
 
   // ---- Under the hood --------------------------------------------------------
 
+  /// The engine's rigid-body world (sim::World::rigid()).
   World& physics() { return world_; }
+  /// The engine's world: robot 0 is the ball, robot i + 1 is robot i.
+  sim::World& engine() { return *engine_; }
   BodyId ball_body() const { return ball_; }
   BodyId robot_body(int robot) const;
   const WorldSpec& spec() const { return spec_; }
   /// Wall-clock time of each phase of the cycle, over every cycle so far
-  /// and the latest one; physics().profile() splits the physics phase.
+  /// and the latest one; engine().profile() splits the physics phase.
   const sim::Profile& profile() const { return profile_; }
   sim::Profile& profile() { return profile_; }
-  /// What `--profile` prints: the cycle's table, then the physics step's
-  /// (Profile::table() format, the Stage engine's too).
+  /// What `--profile` prints: the cycle's table, then the engine's step's
+  /// (the physics phase), then the rigid-body step's (inside the engine's
+  /// integrate phase), each in Profile::table() format.
   std::string profile_table() const;
 
   // ---- WorldView / WorldControl ----------------------------------------------
@@ -137,12 +145,11 @@ class Simulation final : public WorldControl {
     double kicker_since_s = 0;
   };
 
-  Simulation(WorldSpec spec, PluginLoader loader);
+  Simulation(WorldSpec spec, PluginLoader loader, std::unique_ptr<sim::World> engine);
   bool build(std::string& error);
   void add_robot(const RobotEntry& entry);
   void problem(std::string text);
   Rng rng_for(std::string_view robot, std::string_view instance) const;
-  std::vector<Shape> robot_shapes(const Robot& r) const;
   void set_kicker_state(Robot& r, int state);
 
   // simulation_phases.cc
@@ -155,7 +162,8 @@ class Simulation final : public WorldControl {
 
   WorldSpec spec_;
   PluginLoader loader_;
-  World world_;
+  std::unique_ptr<sim::World> engine_;
+  World& world_;  // *engine_->rigid()
   FieldGeometry geometry_;
   Referee referee_;
   std::vector<BodyId> field_bodies_;

@@ -65,12 +65,14 @@ bool Simulation::line_of_sight(Vec2 from, Vec2 to, double z, int ignore_robot, i
 void Simulation::place_ball(Vec2 position, Vec2 velocity) {
   world_.set_pose(ball_, {position.x, position.y, 0});
   world_.set_velocity(ball_, {velocity.x, velocity.y, 0});
+  engine_->rigid_moved();
 }
 
 void Simulation::place_robot(int index, Pose2 pose) {
   if (index < 0 || index >= robot_count()) return;
   world_.set_pose(robots_[size_t(index)].body, pose);
   world_.set_velocity(robots_[size_t(index)].body, {});
+  engine_->rigid_moved();
 }
 
 }  // namespace troupe::robocup

@@ -1,8 +1,10 @@
 #include "host-sim/robocup/game/statement.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "host-sim/robocup/physics/vec2.h"
+#include "host-sim/sim/loader.h"
 
 namespace troupe::robocup {
 namespace {
@@ -136,14 +138,15 @@ std::string joined(const world::Property& p) {
 
 class StageReader {
  public:
-  explicit StageReader(std::string& error) : error_(error) {}
+  StageReader(const world::WorldFile& file, std::string& error) : file_(file), error_(error) {}
 
   bool world(const world::Entity& root, std::vector<Statement>& out) {
     Statement physics = at("world", root.loc);
     for (const world::Property& p : root.properties) {
       p.used = true;
       // The world's statement is where its first property was written.
-      if (physics.line == 0 && p.name != "unit_angle" && p.name != "plugin_path") physics = at("world", p.loc);
+      if (physics.line == 0 && p.name != "unit_angle" && p.name != "plugin_path")
+        physics = at("world", p.loc);
       if (p.name == "unit_angle") {
         if (p.values.size() != 1 || (p.values[0].text != "degrees" && p.values[0].text != "radians"))
           return fail(p.loc, "unit_angle: \"degrees\" or \"radians\"");
@@ -179,7 +182,8 @@ class StageReader {
         if (!robot(e, st)) return false;
         out.push_back(std::move(st));
       } else {
-        return fail(e.loc, "'" + e.written_type + "' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
+        return fail(e.loc, "'" + e.written_type +
+                               "' is no RoboCup model (robocup_field, ball, referee, robocup_robot)");
       }
     }
     return true;
@@ -215,7 +219,8 @@ class StageReader {
   }
 
   // `pose [x y z a]` as x, y (and a, rad) options.
-  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading, const char* arg_key = nullptr) {
+  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading,
+             const char* arg_key = nullptr) {
     st = plain(e, std::move(keyword), arg_key);
     for (auto it = st.options.begin(); it != st.options.end(); ++it) {
       if (it->first != "pose") continue;
@@ -223,7 +228,8 @@ class StageReader {
       double v[4];
       if (p->values.size() != 4) return fail(p->loc, "pose: expected [x y z a]");
       for (int i = 0; i < 4; ++i) {
-        if (!Options::parse_number(p->values[size_t(i)].text, v[i])) return fail(p->loc, "pose: expected numbers");
+        if (!Options::parse_number(p->values[size_t(i)].text, v[i]))
+          return fail(p->loc, "pose: expected numbers");
       }
       st.options.erase(it);
       st.options.emplace_back("x", p->values[0].text);
@@ -256,7 +262,22 @@ class StageReader {
     st.options = std::move(rest);
     if (!mass.options.empty() && mass.args.empty()) return fail(e.loc, "inertia without mass");
     if (!mass.args.empty()) st.children.push_back(std::move(mass));
+    if (std::any_of(e.children.begin(), e.children.end(),
+                    [](const world::Entity& c) { return sim::is_robot_sensor(c.type); })) {
+      // The engine's own reading of Stage's sensor models, so they mean
+      // here what they mean on a Stage robot.
+      auto sensors = std::make_shared<sim::RobotDesc>();
+      sensors->look.height = 0;
+      world::Diagnostics diags;
+      if (!sim::load_robot_sensors(file_, e, *sensors, diags)) {
+        error_ = diags.str();
+        while (!error_.empty() && error_.back() == '\n') error_.pop_back();
+        return false;
+      }
+      st.stage_sensors = std::move(sensors);
+    }
     for (const world::Entity& c : e.children) {
+      if (sim::is_robot_sensor(c.type)) continue;  // read above
       if (c.type == "shape") {
         st.children.push_back(plain(c, "shape", "kind"));
       } else if (c.type == "kicker") {
@@ -278,12 +299,16 @@ class StageReader {
       } else if (c.type == "player") {
         st.children.push_back(plain(c, "player", "plugin"));
       } else {
-        return fail(c.loc, "'" + c.written_type + "' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player)");
+        return fail(c.loc,
+                    "'" + c.written_type +
+                        "' in a robocup_robot (shape, kicker, motion_plugin, sensor_plugin, player, or "
+                        "a Stage sensor: ranger, laser, camera, fiducial, blobfinder, bumper, gripper)");
       }
     }
     return true;
   }
 
+  const world::WorldFile& file_;
   std::string& error_;
   bool radians_ = false;
 };
@@ -312,7 +337,7 @@ std::string folder_of(const std::string& path) {
 }
 
 bool from_stage(const world::WorldFile& file, std::vector<Statement>& out, std::string& error) {
-  return StageReader(error).world(file.root(), out);
+  return StageReader(file, error).world(file.root(), out);
 }
 
 bool load_stage_file(const std::string& path, std::vector<Statement>& out, std::string& error) {

@@ -6,10 +6,12 @@
 // console's one-line commands (`start blue0 goalkeeper policy=block`).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "host-sim/robocup/api/options.h"
+#include "host-sim/sim/desc.h"
 #include "host-sim/world/worldfile.h"
 
 namespace troupe::robocup {
@@ -21,6 +23,10 @@ struct Statement {
   /// key=value pairs in the order written.
   std::vector<std::pair<std::string, std::string>> options;
   std::vector<Statement> children;
+  /// A `robot`'s Stage sensor models (ranger, laser, camera, fiducial,
+  /// blobfinder, bumper, gripper), read by the engine's loader: only the
+  /// sensor lists are filled, cameras standing on height 0. Null for none.
+  std::shared_ptr<const sim::RobotDesc> stage_sensors;
   std::string file;
   int line = 0;
 
@@ -39,8 +45,9 @@ struct Statement {
 /// rad). In a robot, `shape ( kind "rect" ... )`, `kicker ( state ( name
 /// "rest" ... ) )`, `motion_plugin ( plugin "diff_drive" ... )`,
 /// `sensor_plugin ( plugin "laser" ... )`, `player ( plugin "striker" ... )`,
-/// `mass` and `inertia`. A tuple `[0 0.6]` becomes the list `0,0.6`. False
-/// with "file:line: why" for a model no RoboCup world has.
+/// `mass` and `inertia`, and the Stage engine's sensor models (`ranger`,
+/// `camera`, `fiducial`, `blobfinder`, ...: Statement::stage_sensors). A tuple `[0 0.6]` becomes the list
+/// `0,0.6`. False with "file:line: why" for a model no RoboCup world has.
 bool from_stage(const world::WorldFile& file, std::vector<Statement>& out, std::string& error);
 
 /// Reads and parses a Stage world file for RoboCup (errors and warnings of

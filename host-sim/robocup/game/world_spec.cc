@@ -45,6 +45,7 @@ bool read_robot_entry(const Statement& st, WorldSpec& w, std::string& error) {
     return fail(st, "expected a name of letters, digits, _ or -", error);
   }
   r.name = st.args[0];
+  r.stage_sensors = st.stage_sensors;
   for (const RobotEntry& other : w.robots) {
     if (other.name == r.name) return fail(st, "robot '" + r.name + "' defined twice", error);
   }

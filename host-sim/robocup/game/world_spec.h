@@ -39,6 +39,8 @@ struct RobotEntry {
   RobotSpec spec;
   bool has_player = false;
   PluginSpec player;
+  /// Stage sensor models it carries (Statement::stage_sensors); null: none.
+  std::shared_ptr<const sim::RobotDesc> stage_sensors;
   std::string where;
 };
 

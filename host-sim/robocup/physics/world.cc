@@ -209,8 +209,8 @@ Separation World::distance(BodyId ia, BodyId ib) const {
 void World::step() {
   const double dt = def_.cycle_s;
   events_.clear();
-  {
-    sim::PhaseTimer timer(profile_, ph_floor_);
+  sim::PhaseLaps laps(profile_);
+  {  // floor
     for (Body& b : bodies_) {
       if (!b.alive || b.inv_mass == 0) continue;
       const double speed = length(b.v);
@@ -222,13 +222,11 @@ void World::step() {
         b.w = std::copysign(w, b.w);
       }
     }
+    laps.lap(ph_floor_);
   }
+  resolve_overlaps();
+  laps.lap(ph_overlap_);
   {
-    sim::PhaseTimer timer(profile_, ph_overlap_);
-    resolve_overlaps();
-  }
-  {
-    sim::PhaseTimer timer(profile_, ph_impacts_);
     double t = 0;
     for (int impacts = 0;; ++impacts) {
       find_contacts(contacts_);
@@ -249,6 +247,7 @@ void World::step() {
     }
     // Rotation can leave a sliver of overlap at resting contacts.
     resolve_overlaps();
+    laps.lap(ph_impacts_);
   }
   profile_.count_step();
   ++steps_;

@@ -1,4 +1,4 @@
-#include "host-sim/robocup/game/camera_scene.h"
+#include "host-sim/robocup/game/world_desc.h"
 
 #include <algorithm>
 #include <cmath>
@@ -35,26 +35,52 @@ double top_of(const std::vector<Shape>& shapes, double fallback) {
   return top > 0 ? top : fallback;
 }
 
-sim::RobotDesc body(const std::string& name, Pose2 at, const std::vector<Shape>& shapes, double height,
-                    uint32_t color) {
+// A robot of the engine whose rigid body is `rigid` (undriven: the game
+// layer moves it) and whose outline, for rays and cameras, is `outlined`.
+sim::RobotDesc body(const std::string& name, Pose2 at, const std::vector<Shape>& outlined, double height,
+                    uint32_t color, double mass, sim::RigidDesc rigid) {
   sim::RobotDesc r;
   r.name = name;
   r.pose = at;
   double reach = 0;
-  for (const Shape& s : shapes) {
+  for (const Shape& s : outlined) {
     r.polygons.push_back(outline(s));
     for (Vec2 p : r.polygons.back()) reach = std::max({reach, std::fabs(p.x), std::fabs(p.y)});
   }
   r.size = {2 * reach, 2 * reach};
   r.look.color = color;
   r.look.height = height;
+  r.mass = mass;
+  rigid.driven = false;
+  r.rigid = std::move(rigid);
   return r;
+}
+
+// A robot's Stage sensor models, their cameras stacked on its height (m).
+void add_sensors(const sim::RobotDesc& from, double height, sim::RobotDesc& to) {
+  to.rangers = from.rangers;
+  to.blobfinders = from.blobfinders;
+  to.fiducials = from.fiducials;
+  to.bumpers = from.bumpers;
+  to.grippers = from.grippers;
+  to.cameras = from.cameras;
+  for (sim::CameraDesc& c : to.cameras) c.z += height;
 }
 
 }  // namespace
 
-sim::WorldDesc camera_scene(const WorldSpec& spec, const FieldColors& colors) {
+std::vector<Shape> robot_shapes(const RobotSpec& spec, int kicker_state) {
+  std::vector<Shape> shapes = spec.shapes;
+  if (spec.has_kicker) {
+    for (const Shape& s : spec.kicker.states[size_t(kicker_state)].shapes) shapes.push_back(s);
+  }
+  return shapes;
+}
+
+sim::WorldDesc world_desc(const WorldSpec& spec, const FieldColors& colors) {
   sim::WorldDesc w;
+  w.physics = sim::Physics::Rigid;
+  w.rigid = spec.physics;
   w.resolution = 0.02;
   w.interval_sim = spec.physics.cycle_s;
 
@@ -68,6 +94,10 @@ sim::WorldDesc camera_scene(const WorldSpec& spec, const FieldColors& colors) {
     const std::span<const Shape> shapes = field_world.shapes(id);
     sim::StaticDesc s;
     s.pose = field_world.pose(id);
+    s.rigid_shapes.assign(shapes.begin(), shapes.end());
+    s.rigid_user_data = user;
+    // The physics stops bodies at it; the grid only shows it.
+    s.look.obstacle = false;
     double reach_x = 0, reach_y = 0, top = 0;
     for (const Shape& shape : shapes) {
       s.polygons.push_back(outline(shape));
@@ -105,11 +135,28 @@ sim::WorldDesc camera_scene(const WorldSpec& spec, const FieldColors& colors) {
     w.floor.marks.push_back({{0, 0}, {0, 0}, g.center_circle_radius, line, colors.lines});
   }
 
-  const std::vector<Shape> ball = {make_circle({0, 0}, spec.ball.radius)};
-  w.robots.push_back(
-      body("ball", {spec.ball.start.x, spec.ball.start.y, 0}, ball, 2 * spec.ball.radius, colors.ball));
-  for (const RobotEntry& e : spec.robots) {
-    w.robots.push_back(body(e.name, e.start, e.spec.shapes, top_of(e.spec.shapes, 0.6), colors.robot));
+  const BallSpec& b = spec.ball;
+  sim::RigidDesc ball;
+  ball.shapes = {with_height(make_circle({0, 0}, b.radius), 0, 2 * b.radius)};
+  // A solid sphere rolling on the carpet.
+  ball.inertia = 0.4 * b.mass * b.radius * b.radius;
+  ball.linear_deceleration = b.deceleration;
+  ball.angular_deceleration = b.deceleration / b.radius;
+  ball.user_data = make_user_data(kBallTag, 0);
+  w.robots.push_back(body("ball", {b.start.x, b.start.y, 0}, {make_circle({0, 0}, b.radius)}, 2 * b.radius,
+                          colors.ball, b.mass, std::move(ball)));
+  // A movable object: no drive, and a gripper may hold it.
+  w.robots.back().puck = true;
+  for (size_t k = 0; k < spec.robots.size(); ++k) {
+    const RobotEntry& e = spec.robots[k];
+    sim::RigidDesc rigid;
+    rigid.shapes = robot_shapes(e.spec, 0);
+    rigid.inertia = e.spec.inertia;
+    rigid.user_data = make_user_data(kRobotTag, uint32_t(k));
+    const double height = top_of(e.spec.shapes, 0.6);
+    w.robots.push_back(
+        body(e.name, e.start, e.spec.shapes, height, colors.robot, e.spec.mass, std::move(rigid)));
+    if (e.stage_sensors) add_sensors(*e.stage_sensors, height, w.robots.back());
   }
   return w;
 }
