@@ -5,8 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/world.h"
 #include "tests/sim/scenes.h"
+#include "tests/sim/temp_dir.h"
 
 namespace troupe::sim::test {
 
@@ -51,6 +53,19 @@ inline std::vector<uint8_t> camera_bytes_after_steps(const WorldDesc& d) {
   const auto* f = reinterpret_cast<const uint8_t*>(v.depth.data());
   bytes.insert(bytes.end(), f, f + v.depth.size() * sizeof(float));
   return bytes;
+}
+
+/// Loads a world whose one robot carries a camera with `keys` (on line 2
+/// of c.world). True when the load failed with an error at that line;
+/// `diags` gets the messages.
+inline bool camera_keys_refused_at_their_line(const std::string& keys, std::string& diags) {
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  WorldDesc desc;
+  const bool loaded =
+      load_world_file(dir.write("c.world", "position ( name \"r0\"\n  camera ( " + keys + " ) )\n"), desc, d);
+  diags = d.str();
+  return !loaded && diags.find("c.world:2") != std::string::npos;
 }
 
 }  // namespace troupe::sim::test

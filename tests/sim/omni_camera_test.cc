@@ -209,13 +209,9 @@ TEST(OmniCamera, BadMirrorValuesAreErrorsWithFileAndLine) {
   for (const char* bad :
        {"mirror \"conic\"", "mirror \"isometric\" mirror_range 0", "mirror \"isometric\" mirror_ground 1.5",
         "mirror \"isometric\" mirror_ground 0", "mirror \"isometric\" mirror_top 90"}) {
-    troupe::test::TempDir dir;
-    world::Diagnostics diags;
-    WorldDesc d;
-    const std::string text = std::string("position ( name \"r0\"\n  camera ( ") + bad + " ) )\n";
-    EXPECT_FALSE(load_world_file(dir.write("c.world", text), d, diags)) << bad;
-    EXPECT_NE(diags.str().find("c.world:2"), std::string::npos) << bad << ": " << diags.str();
-    EXPECT_NE(diags.str().find("mirror"), std::string::npos) << bad << ": " << diags.str();
+    std::string diags;
+    EXPECT_TRUE(test::camera_keys_refused_at_their_line(bad, diags)) << bad << ": " << diags;
+    EXPECT_NE(diags.find("mirror"), std::string::npos) << bad << ": " << diags;
   }
   // A mirror key without a mirror is unknown to a pinhole camera.
   troupe::test::TempDir dir;
