@@ -69,7 +69,26 @@ bool RobocupMode::init(const SimOptions& options, std::string& error) {
   so.seconds = options.quit_time > 0 ? options.quit_time : 0;
   so.serve = options.serve;
   so.secure = options.secure;
-  so.after_step = [this] { console_->print_events(); };
+  // The robots' Stage sensor models (ranger, camera, fiducial, ...) are the
+  // engine's: served by the Stage worlds' own server, limited to them, their
+  // indices after the RoboCup sensors' on the same robot. The engine's robot
+  // 0 is the ball; robot i + 1 is robot i.
+  so.add_drivers = [this](Node& node, SimControl& control, std::string& err) {
+    SimServer::Scope scope;
+    scope.first_robot = 1;
+    scope.sensors_only = true;
+    scope.first_index = [this](uint16_t robot, wire::Interface iface) {
+      return loop_->server().device_count(robot, iface);
+    };
+    auto sensors = std::make_unique<SimServer>(sim_->engine(), control, std::move(scope));
+    sensors_ = sensors.get();
+    return node.add_driver(std::move(sensors), DriverSetup{}, err);
+  };
+  so.before_step = [this] { sensors_->sync_wanted(); };
+  so.after_step = [this] {
+    sensors_->publish();
+    console_->print_events();
+  };
   loop_ = std::make_unique<robocup::ServeLoop>(*sim_);
   return loop_->start(so, error);
 }

@@ -2,7 +2,9 @@
 // robocup_field, a ball, a referee and robocup_robots (host-sim/robocup,
 // README "World files") runs as a match on rigid-body physics, served by
 // RobocupServer on the same paced loop and the same simulation:0 handler as
-// every world (host-sim/sim_control), with the viewer beside it. Or, with
+// every world (host-sim/sim_control), with the viewer beside it; the
+// robots' Stage sensor models (ranger, camera, ...) are served by SimServer,
+// as in every Stage world. Or, with
 // --script / --interactive, driven by console commands between cycles
 // (robocup/game/console.h), flat out and unserved. Either way the referee's
 // events go to standard output as they happen, then the final score.
@@ -14,6 +16,7 @@
 #include "host-sim/robocup/game/console.h"
 #include "host-sim/robocup/serve/serve_loop.h"
 #include "host-sim/troupe_sim/options.h"
+#include "host-sim/troupe_sim/sim_server.h"
 
 namespace troupe::sim {
 
@@ -55,6 +58,9 @@ class RobocupMode {
   std::unique_ptr<robocup::Simulation> sim_;
   std::unique_ptr<robocup::Console> console_;
   std::unique_ptr<robocup::ServeLoop> loop_;
+  /// The robots' Stage sensors (owned by the loop's node; none with a
+  /// console).
+  SimServer* sensors_ = nullptr;
 };
 
 }  // namespace troupe::sim

@@ -1,6 +1,7 @@
 #include "host-sim/troupe_sim/sim_server.h"
 
 #include <cmath>
+#include <utility>
 
 #include "runtime/log.h"
 
@@ -16,14 +17,17 @@ void SimServer::log_refused(const char* what, RobotId robot, const Pose& value) 
 }
 
 SimServer::SimServer(World& world, SimControl& control, int only)
-    : world_(world), control_(control), only_(only) {}
+    : SimServer(world, control, Scope{only, 0, false, {}}) {}
+
+SimServer::SimServer(World& world, SimControl& control, Scope scope)
+    : world_(world), control_(control), scope_(std::move(scope)) {}
 
 void SimServer::add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface,
                     uint16_t local) {
-  const bool alone = only_ >= 0;
-  const uint16_t number = alone ? 0 : uint16_t(robot);
   const bool world_wide = kind == Kind::Simulation || kind == Kind::Map;
+  const uint16_t number = scope_.only >= 0 || world_wide ? 0 : uint16_t(robot - scope_.first_robot);
   const std::string name = world_wide ? std::string() : world_.robot(robot).name;
+  if (scope_.first_index && !world_wide) local = uint16_t(local + scope_.first_index(number, iface));
   Device d;
   d.kind = kind;
   d.robot = robot;
@@ -34,14 +38,14 @@ void SimServer::add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::
 }
 
 bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
-  if (world_.robot_count() > 0xFFFF) {
+  if (world_.robot_count() - scope_.first_robot > 0xFFFF) {
     error = "more than 65535 robots cannot be addressed";
     return false;
   }
-  for (RobotId r = 0; r < world_.robot_count(); ++r) {
-    if (only_ >= 0 && r != RobotId(only_)) continue;
+  for (RobotId r = scope_.first_robot; r < world_.robot_count(); ++r) {
+    if (scope_.only >= 0 && r != RobotId(scope_.only)) continue;
     const RobotInfo& info = world_.robot(r);
-    add(node, Kind::Position, r, 0, wire::Interface::Position2d, 0);
+    if (!scope_.sensors_only) add(node, Kind::Position, r, 0, wire::Interface::Position2d, 0);
     for (uint32_t k = 0; k < info.rangers.count; ++k) {
       add(node, Kind::Ranger, r, info.rangers.first + k, wire::Interface::Ranger, uint16_t(k));
     }
@@ -60,9 +64,9 @@ bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
     for (uint32_t k = 0; k < info.grippers.count; ++k) {
       add(node, Kind::Gripper, r, info.grippers.first + k, wire::Interface::Actuator, uint16_t(k));
     }
-    if (info.has_power) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
+    if (info.has_power && !scope_.sensors_only) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
   }
-  if (only_ < 0) {
+  if (scope_.only < 0 && !scope_.sensors_only) {
     add(node, Kind::Simulation, 0, 0, wire::Interface::Simulation, 0);
     add(node, Kind::Map, 0, 0, wire::Interface::Map, 0);
   }

@@ -24,8 +24,25 @@ namespace troupe::sim {
 
 class SimServer final : public Driver, private SimulationModels {
  public:
+  /// Which of the world's robots and devices this server serves.
+  struct Scope {
+    /// Serve just this robot, as robot 0 (--port-per-robot); -1: all.
+    int only = -1;
+    /// Robots before this one are not served, and this one is robot 0 on
+    /// the wire (a RoboCup world's engine holds its ball first).
+    RobotId first_robot = 0;
+    /// Only the robots' sensors and grippers: another driver serves their
+    /// position2d, and simulation:0 (RoboCup's game layer).
+    bool sensors_only = false;
+    /// The first index of an interface's devices on a robot (by its number
+    /// on the wire), so these follow the ones another driver serves there;
+    /// empty: 0.
+    std::function<uint16_t(uint16_t robot, wire::Interface iface)> first_index;
+  };
+
   /// `only`: serve just this robot, as robot 0 (--port-per-robot); -1: all.
   SimServer(World& world, SimControl& control, int only = -1);
+  SimServer(World& world, SimControl& control, Scope scope);
 
   bool setup(Node& node, const DriverSetup& setup, std::string& error) override;
   void on_command(DeviceId device, const wire::Message& command) override;
@@ -100,7 +117,7 @@ class SimServer final : public Driver, private SimulationModels {
 
   World& world_;
   SimControl& control_;
-  int only_;
+  Scope scope_;
   std::vector<Device> devices_;
   DeviceId first_ = kNoDevice;
   std::vector<uint16_t> scratch_ranges_;

@@ -39,7 +39,8 @@ sim::WorldDesc scene_with(const sim::CameraDesc& camera) {
   EXPECT_TRUE(test::world_from_text(kWorld, spec, error)) << error;
   sim::WorldDesc d = camera_scene(spec);
   EXPECT_EQ(d.robots.size(), 3u);  // the ball, blue1, yellow1
-  d.robots.at(1).cameras.push_back(camera);
+  // In place of the omni camera pioneer.inc gives it: camera 0 is this one.
+  d.robots.at(1).cameras.assign(1, camera);
   return d;
 }
 

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "host-sim/robocup/game/world_desc.h"
 #include "tests/support/child_process.h"
+#include "tests/support/png_decode.h"
 #include "wire/client/client.h"
 #include "wire/client/proxies.h"
 
@@ -82,6 +84,52 @@ TEST_F(MatchInTroupeSim, ServesTheMatchThroughTheOneSimulationHandler) {
   EXPECT_FALSE(sim.set_pose("nobody", {0, 0, 0}));
   EXPECT_NE(c.error().find("no model named 'nobody'"), std::string::npos) << c.error();
   EXPECT_TRUE(sim.step(1));
+}
+
+// The field players' omni cameras (examples/robocup/robots/pioneer.inc) are
+// the engine's Stage camera models, served beside the RoboCup sensors: blue1
+// at (-2.5, 1.2) facing the yellow goal sees the green carpet, the white
+// lines and the orange ball at the centre spot, 2.8 m away. A PNG reader
+// gets the raw reader's pixels, decoded by libpng.
+TEST_F(MatchInTroupeSim, AFieldPlayersOmniCameraServesTheFieldInColour) {
+  Client raw_client("127.0.0.1", port_), png_client("127.0.0.1", port_);
+  ASSERT_TRUE(raw_client.connect()) << raw_client.error();
+  ASSERT_TRUE(png_client.connect()) << png_client.error();
+  std::vector<client::DeviceEntry> devices;
+  ASSERT_TRUE(raw_client.device_list(devices));
+  std::vector<std::string> names;
+  for (const auto& d : devices) names.push_back(d.text());
+  // The RoboCup sensors keep their indices; the camera has its own interface.
+  for (const char* name : {"blue1/camera:0", "blue1/ranger:0", "blue1/ranger:1", "blue1/fiducial:0"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+
+  client::CameraProxy raw(raw_client, 0, 1);
+  client::CameraProxy png(png_client, 0, 1, wire::ImageCompression::Png);
+  client::SimulationProxy sim(raw_client);
+  ASSERT_TRUE(raw.is_open() && png.is_open() && sim.is_open());
+  ASSERT_TRUE(sim.step(2));
+  ASSERT_TRUE(raw_client.sync() && png_client.sync());
+  const client::Image& image = raw.image();
+  ASSERT_EQ(image.width, 128u);
+  ASSERT_EQ(image.height, 128u);
+  ASSERT_EQ(image.format, wire::PixelFormat::Rgb8);
+  const FieldColors colors;
+  size_t carpet = 0, lines = 0, ball = 0;
+  for (size_t i = 0; i + 2 < image.data.size(); i += 3) {
+    const uint32_t c = uint32_t(image.data[i]) << 16 | uint32_t(image.data[i + 1]) << 8 | image.data[i + 2];
+    carpet += c == colors.carpet;
+    lines += c == colors.lines;
+    ball += c == colors.ball;
+  }
+  EXPECT_GT(carpet, 128u * 128u / 4);
+  EXPECT_GT(lines, 30u);
+  EXPECT_GT(ball, 2u);
+  ASSERT_EQ(png.image().compression, wire::ImageCompression::Png);
+  troupe::test::DecodedPng d;
+  std::string why;
+  ASSERT_TRUE(troupe::test::decode_png(png.image().data, d, why)) << why;
+  EXPECT_EQ(d.width, 128u);
+  EXPECT_EQ(d.pixels, image.data);
 }
 
 TEST(MatchBatch, RunsToItsQuitTimeAndSaysTheScore) {

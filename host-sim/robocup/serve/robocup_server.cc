@@ -73,6 +73,29 @@ bool RobocupServer::setup(Node& node, const DriverSetup&, std::string& error) {
   return true;
 }
 
+uint16_t RobocupServer::device_count(int robot, wire::Interface iface) const {
+  const auto kind_of = [](Kind k) {
+    switch (k) {
+      case Kind::Position:
+        return wire::Interface::Position2d;
+      case Kind::Kicker:
+        return wire::Interface::Actuator;
+      case Kind::Fiducial:
+        return wire::Interface::Fiducial;
+      case Kind::Ranger:
+        return wire::Interface::Ranger;
+      case Kind::Simulation:
+        break;
+    }
+    return wire::Interface::Simulation;
+  };
+  uint16_t n = 0;
+  for (const Device& d : devices_) {
+    if (d.kind != Kind::Simulation && d.robot == robot && kind_of(d.kind) == iface) ++n;
+  }
+  return n;
+}
+
 RobocupServer::Device* RobocupServer::find(DeviceId id) {
   if (first_ == kNoDevice || id < first_ || id - first_ >= devices_.size()) return nullptr;
   return &devices_[id - first_];

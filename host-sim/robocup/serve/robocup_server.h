@@ -45,6 +45,9 @@ class RobocupServer final : public Driver, private sim::SimulationModels {
   void publish();
 
   size_t device_count() const { return devices_.size(); }
+  /// How many devices of `iface` robot `robot` has here (another driver's
+  /// devices of that interface on the robot come after them).
+  uint16_t device_count(int robot, wire::Interface iface) const;
 
  private:
   enum class Kind : uint8_t { Position, Kicker, Fiducial, Ranger, Simulation };

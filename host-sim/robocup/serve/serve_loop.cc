@@ -36,6 +36,7 @@ bool ServeLoop::start(const ServeOptions& options, std::string& error) {
   auto server = std::make_unique<RobocupServer>(sim_, control_);
   server_ = server.get();
   if (!node_->add_driver(std::move(server), DriverSetup{}, error)) return false;
+  if (options.add_drivers && !options.add_drivers(*node_, control_, error)) return false;
   if (options.serve && !node_->start(error)) {
     error = "cannot serve on " + options.listen + ":" + std::to_string(options.port) + ": " + error;
     return false;
@@ -50,6 +51,7 @@ uint16_t ServeLoop::port() const {
 
 void ServeLoop::step(uint32_t n) {
   for (uint32_t i = 0; i < n && !stop_; ++i) {
+    if (options_.before_step) options_.before_step();
     sim_.step();
     server_->publish();
     if (options_.after_step) options_.after_step();

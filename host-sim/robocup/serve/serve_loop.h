@@ -31,9 +31,13 @@ struct ServeOptions {
   bool serve = true;
   /// Secure sessions; empty: plain TCP.
   SecureSessions secure;
-  /// Called after every cycle, however it was asked for (the pace or a
-  /// client's step): troupe-sim prints the referee's events there.
-  std::function<void()> after_step;
+  /// Called before and after every cycle, however it was asked for (the
+  /// pace or a client's step): troupe-sim prints the referee's events
+  /// after, and serves the robots' Stage sensors around it.
+  std::function<void()> before_step, after_step;
+  /// Adds drivers of its own to the node, after the RobocupServer and
+  /// before the node starts (troupe-sim: the robots' Stage sensors).
+  std::function<bool(Node& node, sim::SimControl& control, std::string& error)> add_drivers;
 };
 
 class ServeLoop {
@@ -53,6 +57,8 @@ class ServeLoop {
   /// The bound TCP port.
   uint16_t port() const;
   Node& node() { return *node_; }
+  /// The devices of the game layer (set once start() has added it).
+  const RobocupServer& server() const { return *server_; }
   const sim::SimControl& control() const { return control_; }
 
  private:
