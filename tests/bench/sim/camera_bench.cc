@@ -167,8 +167,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   troupe::sim::WorldDesc match = troupe::robocup::camera_scene(spec);
+  // Each robot one omni camera, the benchmark's (in place of the one the
+  // field players' robot file gives them), so every row measures the same.
   size_t carrying = 0;
-  for (size_t i = 1; i < match.robots.size(); ++i, ++carrying) match.robots[i].cameras.push_back(omni());
+  for (size_t i = 1; i < match.robots.size(); ++i, ++carrying) match.robots[i].cameras.assign(1, omni());
   table("\n== RoboCup: examples/robocup/match.world's 8 robots, omni 128 x 128, the field painted", match,
         steps * 5, {carrying}, carrying);
   return 0;
