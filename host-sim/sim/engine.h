@@ -240,6 +240,10 @@ struct Engine {
 
   /// The wanted sensors, each kind timed into its phase.
   void update_sensors(PhaseLaps& laps);
+  /// World::step() and step(StepExchange&): `exchange` may be null.
+  void step(World& world, World::StepExchange* exchange);
+  /// This process steps robot i (World::Residence::Owned).
+  bool owns(RobotId i) const { return residence.empty() || residence[i] == kOwned; }
   void publish_states();
   void outline(RobotId i, const Pose& at, std::vector<Vec2>& verts, std::vector<PolyRef>& polys) const;
 
@@ -279,6 +283,11 @@ struct Engine {
   /// them for any scalar type (asserted in world.cc), so a controller may
   /// keep any trivially copyable struct there.
   std::vector<std::vector<std::byte>> controller_memory;
+  /// World::Residence per robot, as bytes; empty while the world is not
+  /// divided (every robot owned), so an undivided step reads nothing more.
+  std::vector<uint8_t> residence;
+  static constexpr uint8_t kOwned = uint8_t(World::Residence::Owned);
+  static constexpr uint8_t kAbsent = uint8_t(World::Residence::Absent);
 
   // Scratch, reused every step so the step does not allocate.
   std::vector<Vec2> hash_centres;

@@ -45,7 +45,15 @@ void Engine::update_sensors(PhaseLaps& laps) {
 }
 
 void World::step() {
-  Engine& e = *e_;
+  e_->step(*this, nullptr);
+}
+
+void World::step(StepExchange& exchange) {
+  e_->step(*this, &exchange);
+}
+
+void Engine::step(World& world, World::StepExchange* exchange) {
+  Engine& e = *this;
   PhaseLaps laps(e.profile);
   e.control();
   laps.lap(e.ph_control);
@@ -56,6 +64,7 @@ void World::step() {
     e.integrate();
   }
   laps.lap(e.ph_integrate);
+  if (exchange) exchange->proposed(world);
   e.broadphase();
   laps.lap(e.ph_broadphase);
   if (e.rigid) {
@@ -74,6 +83,10 @@ void World::step() {
   ++e.steps;
   // From the step count, so the clock does not drift by summing.
   e.time = double(e.steps) * e.desc.interval_sim;
+  if (exchange) {
+    exchange->moved(world);
+    e.publish_states();
+  }
   e.update_sensors(laps);
   e.profile.count_step();
 }

@@ -46,8 +46,21 @@ Runner::~Runner() {
   for (auto& n : nodes_) n->shutdown();
 }
 
-bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error) {
+bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
+                  Division* division) {
   options_ = options;
+  if (division) {
+    // What needs every robot in one process: not yet for a divided run.
+    const char* refused = options.serve                 ? "serving clients (run with --no-serve)"
+                          : !options.snapshot.empty()   ? "--snapshot"
+                          : !options.emulate.empty()    ? "--emulate"
+                          : options.p2os_tcp_port >= 0  ? "--p2os-tcp"
+                                                        : nullptr;
+    if (refused) {
+      error = std::string("under mpirun troupe-sim does not do ") + refused + " yet";
+      return false;
+    }
+  }
   world_ = World::load(options.world, options.seed, diags);
   if (!world_) return false;
 
@@ -92,8 +105,17 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     nodes_.push_back(std::move(node));
     if (!options.serve) break;
   }
-  if (!options.log.empty() && !log_.open(options.log, error)) return false;
+  // A divided run's log is written by its first process alone.
+  const bool writes_log = !division || division->first();
+  const bool log_open = options.log.empty() || !writes_log || log_.open(options.log, error);
+  if (division && division->any(!log_open)) {
+    if (log_open) error = "another process of the run failed (its error is above)";
+    return false;
+  }
+  if (!log_open) return false;
   for (SimServer* s : servers_) s->sync_wanted();
+  if (division && !division->start(*world_, error)) return false;
+  division_ = division;
   world_->refresh_sensors();
   return true;
 }
@@ -206,9 +228,16 @@ void Runner::step(uint32_t n) {
   for (uint32_t i = 0; i < n && !stop_; ++i) {
     for (SimServer* s : servers_) s->sync_wanted();
     controllers_.update(*world_);
-    world_->step();
+    if (division_) {
+      world_->step(*division_);
+      if (division_->after_step(*world_, stop_asked_)) stop_ = true;
+      if (!options_.log.empty() && division_->gather_poses(*world_, gathered_))
+        log_.record(*world_, gathered_);
+    } else {
+      world_->step();
+      log_.record(*world_);
+    }
     for (SimServer* s : servers_) s->publish();
-    log_.record(*world_);
     for (const std::string& e : controllers_.take_errors()) log_warn("%s", e.c_str());
     if (!options_.snapshot.empty() && next_snapshot_ > 0 && world_->time() + 1e-9 >= next_snapshot_) {
       std::string err;
@@ -276,7 +305,11 @@ int Runner::run() {
     log_error("the trajectory log %s could not be written completely", options_.log.c_str());
     return 1;
   }
-  if (options_.profile) std::fprintf(stderr, "%s", world_->profile().table().c_str());
+  if (options_.profile) {
+    // Every process takes part in the division's report; the first prints.
+    const std::string divided = division_ ? division_->report() : "";
+    if (!division_ || division_->first()) std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
+  }
   return 0;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host-sim/sim/controller_host.h"
+#include "host-sim/sim/division.h"
 #include "host-sim/sim/trajectory_log.h"
 #include "host-sim/sim/world.h"
 #include "host-sim/sim_control/pacing.h"
@@ -30,14 +31,20 @@ class Runner {
 
   /// Loads the world and its controllers and opens the servers. Problems
   /// with the world file go to `diags` (file:line); others to `error`.
-  bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error);
+  /// With `division` (troupe-sim under mpirun): this process steps its
+  /// share of the world, exchanging with the others every step; it must
+  /// outlive the runner.
+  bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
+            Division* division = nullptr);
   /// Runs until the quit time, request_stop(), or a fatal problem. Returns
   /// the process exit code: 0 when the run reached its quit time (however
   /// it got there, a client's Step included) or was asked to stop, 1 when
   /// the snapshot or the trajectory log could not be written.
   int run();
   /// Safe from any thread or a signal watcher.
-  void request_stop() { stop_ = true; }
+  /// Safe from a signal handler. A divided run stops once every process
+  /// has heard, at the same step.
+  void request_stop() { (division_ ? stop_asked_ : stop_) = true; }
 
   /// The bound TCP port of the main server (0 without one).
   uint16_t port() const;
@@ -79,6 +86,8 @@ class Runner {
   double emulation_clock_us_ = 0;
   uint64_t emulation_wall_us_ = 0;
   TrajectoryLog log_;
+  Division* division_ = nullptr;
+  std::vector<Pose> gathered_;  // every robot's pose, first process, divided runs
   double quit_time_ = 0;
   // simulation:0 Step requests, oldest first, run in slices between polls.
   struct QueuedSteps {
@@ -89,6 +98,7 @@ class Runner {
   std::deque<QueuedSteps> queued_steps_;
   double next_snapshot_ = 0;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> stop_asked_{false};
   RateMeter rate_;
   uint64_t progress_wall_us_ = 0;
   bool progress_shown_ = false;

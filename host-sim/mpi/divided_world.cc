@@ -1,0 +1,234 @@
+#include "host-sim/mpi/divided_world.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "host-sim/sim/bytes.h"
+
+namespace troupe::sim::mpi {
+namespace {
+
+using bytes::get;
+using bytes::put;
+
+double wall_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+Vec2 centre(const World& world, RobotId id) {
+  const Pose& p = world.ghost_motion(id).pose;
+  return {p.x, p.y};
+}
+
+// A ghost record: its robot, then its motion field by field (no padding
+// travels).
+void put_motion(Bytes& out, RobotId id, const World::GhostMotion& m) {
+  put(out, id);
+  put(out, m.pose);
+  put(out, m.proposed);
+  put(out, uint8_t(m.moved));
+}
+
+}  // namespace
+
+bool DividedWorld::start(World& world, std::string& error) {
+  started_s_ = wall_s();
+  if (!world.divisible(error)) {
+    error = "this world cannot be divided between processes: " + error;
+    return false;
+  }
+  halo_ = world.interaction_reach();
+  // Every rank loaded the same world: the same start poses give the same
+  // tiles everywhere, with no message.
+  std::vector<Vec2> starts(world.robot_count());
+  for (RobotId i = 0; i < world.robot_count(); ++i) starts[i] = centre(world, i);
+  tiles_ = Tiles::balanced(comm_.size(), starts);
+  owned_.clear();
+  for (RobotId i = 0; i < world.robot_count(); ++i) {
+    const bool mine = tiles_.owner(starts[i]) == comm_.rank();
+    world.set_residence(i, mine ? World::Residence::Owned : World::Residence::Absent);
+    if (mine) owned_.push_back(i);
+  }
+  sent_.assign(size_t(comm_.size()), {});
+  // The ghosts the first sensors see (nobody has moved yet).
+  proposed(world);
+  return true;
+}
+
+void DividedWorld::forget_ghosts(World& world) {
+  for (RobotId id : ghosts_) {
+    if (world.residence(id) == World::Residence::Ghost) world.set_residence(id, World::Residence::Absent);
+  }
+  ghosts_.clear();
+}
+
+void DividedWorld::proposed(World& world) {
+  std::vector<Bytes> send(size_t(comm_.size())), recv;
+  std::vector<int> ranks;
+  for (auto& s : sent_) s.clear();
+  for (RobotId id : owned_) {
+    const World::GhostMotion m = world.ghost_motion(id);
+    tiles_.near({m.pose.x, m.pose.y}, halo_, ranks);
+    for (int r : ranks) {
+      if (r == comm_.rank()) continue;
+      put_motion(send[size_t(r)], id, m);
+      sent_[size_t(r)].push_back(id);
+    }
+  }
+  comm_.exchange(send, recv);
+  forget_ghosts(world);
+  for (const Bytes& from : recv) {
+    std::span<const std::byte> in(from);
+    RobotId id = 0;
+    World::GhostMotion m;
+    uint8_t moved = 0;
+    while (get(in, id) && get(in, m.pose) && get(in, m.proposed) && get(in, moved)) {
+      m.moved = moved != 0;
+      world.set_ghost_motion(id, m);
+      world.set_residence(id, World::Residence::Ghost);
+      ghosts_.push_back(id);
+    }
+  }
+}
+
+void DividedWorld::moved(World& world) {
+  std::vector<Bytes> send(size_t(comm_.size())), recv;
+  for (size_t r = 0; r < sent_.size(); ++r) {
+    for (RobotId id : sent_[r]) {
+      put(send[r], id);
+      put(send[r], world.ghost_motion(id).pose);
+    }
+  }
+  comm_.exchange(send, recv);
+  for (const Bytes& from : recv) {
+    std::span<const std::byte> in(from);
+    RobotId id = 0;
+    Pose pose;
+    while (get(in, id) && get(in, pose)) world.set_ghost_motion(id, {pose, pose, false});
+  }
+}
+
+void DividedWorld::migrate(World& world) {
+  std::vector<Bytes> send(size_t(comm_.size())), recv;
+  std::vector<RobotId> kept;
+  kept.reserve(owned_.size());
+  Bytes state;
+  for (RobotId id : owned_) {
+    const int to = tiles_.owner(centre(world, id));
+    if (to == comm_.rank()) {
+      kept.push_back(id);
+      continue;
+    }
+    state.clear();
+    world.save_robot(id, state);
+    put(send[size_t(to)], id);
+    put(send[size_t(to)], uint64_t(state.size()));
+    send[size_t(to)].insert(send[size_t(to)].end(), state.begin(), state.end());
+    world.set_residence(id, World::Residence::Absent);
+    ++migrations_;
+  }
+  comm_.exchange(send, recv);
+  owned_ = std::move(kept);
+  for (size_t r = 0; r < recv.size(); ++r) {
+    std::span<const std::byte> in(recv[r]);
+    RobotId id = 0;
+    uint64_t size = 0;
+    while (get(in, id) && get(in, size)) {
+      std::span<const std::byte> record = in.subspan(0, std::min<size_t>(size, in.size()));
+      in = in.subspan(record.size());
+      // Both ranks run the same build on the same world: a record that
+      // does not fit is a bug, and a robot lost would silently change
+      // the run, so the run ends.
+      if (size > record.size() || !world.restore_robot(id, record) || !record.empty()) {
+        std::fprintf(stderr, "troupe-sim: rank %d: robot %u's state from rank %zu does not fit; stopping\n",
+                     comm_.rank(), id, r);
+        comm_.abort(1);
+      }
+      world.set_residence(id, World::Residence::Owned);
+      owned_.push_back(id);
+    }
+  }
+  std::sort(owned_.begin(), owned_.end());
+}
+
+void DividedWorld::rebalance(World& world) {
+  Bytes mine;
+  for (RobotId id : owned_) put(mine, centre(world, id));
+  std::vector<Bytes> all;
+  comm_.all_gather(mine, all);
+  // Every rank orders the same centres the same way (Tiles sorts them),
+  // so all draw the same tiles.
+  std::vector<Vec2> centres;
+  for (const Bytes& b : all) {
+    std::span<const std::byte> in(b);
+    Vec2 c;
+    while (get(in, c)) centres.push_back(c);
+  }
+  tiles_ = Tiles::balanced(comm_.size(), centres);
+  ++rebalances_;
+}
+
+bool DividedWorld::after_step(World& world, bool stop) {
+  ++steps_;
+  if (options_.rebalance_every > 0 && steps_ % options_.rebalance_every == 0) rebalance(world);
+  migrate(world);
+  return comm_.any(stop);
+}
+
+bool DividedWorld::gather_poses(const World& world, std::vector<Pose>& poses) {
+  Bytes mine;
+  for (RobotId id : owned_) {
+    put(mine, id);
+    put(mine, world.state(id).pose);
+  }
+  std::vector<Bytes> all;
+  comm_.gather(mine, all);
+  if (!first()) return false;
+  poses.assign(world.robot_count(), Pose{});
+  for (const Bytes& b : all) {
+    std::span<const std::byte> in(b);
+    RobotId id = 0;
+    Pose p;
+    while (get(in, id) && get(in, p)) {
+      if (id < poses.size()) poses[id] = p;
+    }
+  }
+  return true;
+}
+
+std::string DividedWorld::report() {
+  struct Row {
+    uint64_t robots, bytes, messages, migrations;
+    double comm_s, wall_s;
+  };
+  const Row mine{owned_.size(), comm_.bytes_sent(), comm_.messages_sent(), migrations_, comm_.seconds(),
+                 wall_s() - started_s_};
+  Bytes b;
+  put(b, mine);
+  std::vector<Bytes> all;
+  comm_.gather(b, all);
+  if (!first()) return "";
+  const double steps = double(std::max<uint64_t>(steps_, 1));
+  std::string out;
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "%d ranks (%d x %d tiles), halo %.2f m, %llu steps, regions redrawn %llu times\n"
+                "rank  robots  bytes/step  messages/step  migrated  exchanging s  other s\n",
+                tiles_.ranks(), tiles_.cols(), tiles_.rows(), halo_, static_cast<unsigned long long>(steps_),
+                static_cast<unsigned long long>(rebalances_));
+  out += line;
+  for (size_t r = 0; r < all.size(); ++r) {
+    Row row{};
+    std::span<const std::byte> in(all[r]);
+    if (!get(in, row)) continue;
+    std::snprintf(line, sizeof line, "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f\n", r,
+                  static_cast<unsigned long long>(row.robots), double(row.bytes) / steps,
+                  double(row.messages) / steps, static_cast<unsigned long long>(row.migrations), row.comm_s,
+                  row.wall_s - row.comm_s);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace troupe::sim::mpi
