@@ -222,6 +222,7 @@ bool World::restore_robot(RobotId id, std::span<const std::byte>& in) {
   std::move(bumpers.begin(), bumpers.end(), e.bumpers.begin() + info.bumpers.first);
   std::move(cameras.begin(), cameras.end(), e.cameras.begin() + info.cameras.first);
   if (!memory.empty()) std::copy(memory.begin(), memory.end(), controller_memory(id).begin());
+  e.states[id] = {body.pose, body.vel, odom.estimate, body.stalled, body.disabled};
   return true;
 }
 
