@@ -6,6 +6,7 @@
 #include <climits>
 #include <cstdlib>
 #include <stdexcept>
+#include <thread>
 
 namespace troupe::sim::mpi {
 namespace {
@@ -117,6 +118,27 @@ void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
     return;
   }
   split(flat, counts, displs, all);
+}
+
+void Comm::broadcast(Bytes& bytes) {
+  Timed t(seconds_);
+  uint64_t size = bytes.size();
+  MPI_Request request;
+  MPI_Ibcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
+  int done = 0;
+  MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+  while (!done) {
+    // A leader that steps answers within a step; one that is paused or
+    // serving may take seconds. 0.1 ms is well below a step's time.
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+  }
+  if (rank_ != 0) bytes.resize(size);
+  if (rank_ == 0) {
+    bytes_sent_ += bytes.size() * size_t(size_ - 1);
+    messages_sent_ += uint64_t(size_ - 1);
+  }
+  MPI_Bcast(bytes.data(), checked_count(bytes.size()), MPI_BYTE, 0, MPI_COMM_WORLD);
 }
 
 bool Comm::any(bool mine) {

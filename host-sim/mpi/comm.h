@@ -35,6 +35,9 @@ class Comm {
   /// Every rank's `mine`, into all[r] on rank 0 (all is left empty
   /// elsewhere).
   void gather(const Bytes& mine, std::vector<Bytes>& all);
+  /// Rank 0's `bytes` into `bytes` on every rank. The others wait asleep
+  /// between looks, not spinning: a paused leader costs them no CPU.
+  void broadcast(Bytes& bytes);
   /// True on every rank when `mine` is true on any.
   bool any(bool mine);
   /// Ends every process of the run at once, with `code`.

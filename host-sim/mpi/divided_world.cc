@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 
 #include "host-sim/sim/bytes.h"
 
@@ -39,7 +40,15 @@ bool DividedWorld::start(World& world, std::string& error) {
     return false;
   }
   halo_ = world.interaction_reach();
-  // Every rank loaded the same world: the same start poses give the same
+  sent_.assign(size_t(comm_.size()), {});
+  // Clients reach the leader; the robots' owners take their inputs.
+  if (first()) world.set_journal(&journal_);
+  restart(world);
+  return true;
+}
+
+void DividedWorld::restart(World& world) {
+  // Every rank holds the same poses (a loaded or reset world): the same
   // tiles everywhere, with no message.
   std::vector<Vec2> starts(world.robot_count());
   for (RobotId i = 0; i < world.robot_count(); ++i) starts[i] = centre(world, i);
@@ -50,10 +59,65 @@ bool DividedWorld::start(World& world, std::string& error) {
     world.set_residence(i, mine ? World::Residence::Owned : World::Residence::Absent);
     if (mine) owned_.push_back(i);
   }
-  sent_.assign(size_t(comm_.size()), {});
+  ghosts_.clear();
   // The ghosts the first sensors see (nobody has moved yet).
   proposed(world);
-  return true;
+}
+
+DividedWorld::Order DividedWorld::sync(World& world, Order order) {
+  Bytes message;
+  if (first()) {
+    message.push_back(std::byte(order));
+    message.insert(message.end(), journal_.begin(), journal_.end());
+    journal_.clear();
+  }
+  comm_.broadcast(message);
+  if (message.empty()) comm_.abort(1);  // cannot be: the leader always sends its order
+  const Order received = Order(message[0]);
+  if (!first() && !world.replay(std::span<const std::byte>(message).subspan(1))) {
+    std::fprintf(stderr, "troupe-sim: rank %d: the leader's inputs do not fit this world; stopping\n",
+                 comm_.rank());
+    comm_.abort(1);
+  }
+  // A teleported robot is stepped by its new region's process.
+  if (received == Order::Step || received == Order::Refresh) migrate(world);
+  return received;
+}
+
+void DividedWorld::mirror(World& world) {
+  Bytes mine;
+  for (RobotId id : owned_) put_state(world, id, mine);
+  std::vector<Bytes> all;
+  comm_.gather(mine, all);
+  for (size_t r = 1; r < all.size(); ++r) take_states(world, all[r], int(r), nullptr);
+}
+
+void DividedWorld::put_state(const World& world, RobotId id, Bytes& out) {
+  put(out, id);
+  const size_t at = out.size();
+  put(out, uint64_t(0));  // its length, once known
+  world.save_robot(id, out);
+  const uint64_t size = out.size() - at - sizeof(uint64_t);
+  std::memcpy(out.data() + at, &size, sizeof size);
+}
+
+void DividedWorld::take_states(World& world, const Bytes& from, int rank, std::vector<RobotId>* taken) {
+  std::span<const std::byte> in(from);
+  RobotId id = 0;
+  uint64_t size = 0;
+  while (get(in, id) && get(in, size)) {
+    std::span<const std::byte> record = in.subspan(0, std::min<size_t>(size, in.size()));
+    in = in.subspan(record.size());
+    // Both ranks run the same build on the same world: a record that does
+    // not fit is a bug, and a robot lost would silently change the run,
+    // so the run ends.
+    if (size > record.size() || !world.restore_robot(id, record) || !record.empty()) {
+      std::fprintf(stderr, "troupe-sim: rank %d: robot %u's state from rank %d does not fit; stopping\n",
+                   comm_.rank(), id, rank);
+      comm_.abort(1);
+    }
+    if (taken) taken->push_back(id);
+  }
 }
 
 void DividedWorld::forget_ghosts(World& world) {
@@ -113,41 +177,22 @@ void DividedWorld::migrate(World& world) {
   std::vector<Bytes> send(size_t(comm_.size())), recv;
   std::vector<RobotId> kept;
   kept.reserve(owned_.size());
-  Bytes state;
   for (RobotId id : owned_) {
     const int to = tiles_.owner(centre(world, id));
     if (to == comm_.rank()) {
       kept.push_back(id);
       continue;
     }
-    state.clear();
-    world.save_robot(id, state);
-    put(send[size_t(to)], id);
-    put(send[size_t(to)], uint64_t(state.size()));
-    send[size_t(to)].insert(send[size_t(to)].end(), state.begin(), state.end());
+    put_state(world, id, send[size_t(to)]);
     world.set_residence(id, World::Residence::Absent);
     ++migrations_;
   }
   comm_.exchange(send, recv);
   owned_ = std::move(kept);
   for (size_t r = 0; r < recv.size(); ++r) {
-    std::span<const std::byte> in(recv[r]);
-    RobotId id = 0;
-    uint64_t size = 0;
-    while (get(in, id) && get(in, size)) {
-      std::span<const std::byte> record = in.subspan(0, std::min<size_t>(size, in.size()));
-      in = in.subspan(record.size());
-      // Both ranks run the same build on the same world: a record that
-      // does not fit is a bug, and a robot lost would silently change
-      // the run, so the run ends.
-      if (size > record.size() || !world.restore_robot(id, record) || !record.empty()) {
-        std::fprintf(stderr, "troupe-sim: rank %d: robot %u's state from rank %zu does not fit; stopping\n",
-                     comm_.rank(), id, r);
-        comm_.abort(1);
-      }
-      world.set_residence(id, World::Residence::Owned);
-      owned_.push_back(id);
-    }
+    const size_t before = owned_.size();
+    take_states(world, recv[r], int(r), &owned_);
+    for (size_t k = before; k < owned_.size(); ++k) world.set_residence(owned_[k], World::Residence::Owned);
   }
   std::sort(owned_.begin(), owned_.end());
 }
@@ -169,11 +214,10 @@ void DividedWorld::rebalance(World& world) {
   ++rebalances_;
 }
 
-bool DividedWorld::after_step(World& world, bool stop) {
+void DividedWorld::after_step(World& world) {
   ++steps_;
   if (options_.rebalance_every > 0 && steps_ % options_.rebalance_every == 0) rebalance(world);
   migrate(world);
-  return comm_.any(stop);
 }
 
 bool DividedWorld::gather_poses(const World& world, std::vector<Pose>& poses) {

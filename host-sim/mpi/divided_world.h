@@ -29,9 +29,14 @@ class DividedWorld final : public Division {
   DividedWorld(Comm& comm, Options options) : comm_(comm), options_(options) {}
 
   bool start(World& world, std::string& error) override;
+  Order sync(World& world, Order order) override;
+  bool pending() const override { return !journal_.empty(); }
   void proposed(World& world) override;
   void moved(World& world) override;
-  bool after_step(World& world, bool stop) override;
+  void after_step(World& world) override;
+  void ghosts(World& world) override { proposed(world); }
+  void restart(World& world) override;
+  void mirror(World& world) override;
   bool gather_poses(const World& world, std::vector<Pose>& poses) override;
   bool first() const override { return comm_.rank() == 0; }
   bool any(bool mine) override { return comm_.any(mine); }
@@ -52,12 +57,19 @@ class DividedWorld final : public Division {
   void rebalance(World& world);
   /// The ghosts of the last exchange back to absent.
   void forget_ghosts(World& world);
+  /// Robot `id`'s record: its number, its state's length, its state.
+  static void put_state(const World& world, RobotId id, Bytes& out);
+  /// Restores every record in `from` (sent by `rank`), appending the
+  /// robots to `taken` when given. A record that does not fit ends the run.
+  void take_states(World& world, const Bytes& from, int rank, std::vector<RobotId>* taken);
 
   Comm& comm_;
   Options options_;
   Tiles tiles_;
   double halo_ = 0;
   std::vector<RobotId> owned_;
+  // The leader's world's inputs since the last sync().
+  std::vector<std::byte> journal_;
   std::vector<RobotId> ghosts_;
   // The robots sent to each rank as ghosts by proposed(), whose final
   // poses moved() sends the same way.

@@ -11,6 +11,7 @@
 
 #include "host-sim/sim/bytes.h"
 #include "host-sim/sim/engine.h"
+#include "host-sim/sim/journal.h"
 
 namespace troupe::sim {
 namespace {
@@ -224,6 +225,60 @@ bool World::restore_robot(RobotId id, std::span<const std::byte>& in) {
   if (!memory.empty()) std::copy(memory.begin(), memory.end(), controller_memory(id).begin());
   e.states[id] = {body.pose, body.vel, odom.estimate, body.stalled, body.disabled};
   return true;
+}
+
+void World::set_journal(std::vector<std::byte>* journal) {
+  e_->journal = journal;
+}
+
+bool World::replay(std::span<const std::byte> in) {
+  Engine& e = *e_;
+  std::vector<std::byte>* journal = e.journal;
+  e.journal = nullptr;  // what is replayed was journaled where it came from
+  bool ok = true;
+  Input kind{};
+  while (ok && !in.empty() && get(in, kind)) {
+    RobotId id = 0;
+    Pose p;
+    uint32_t index = 0;
+    uint8_t flag = 0;
+    switch (kind) {
+      case Input::Velocity:
+      case Input::Goto:
+      case Input::Teleport:
+      case Input::Odometry:
+        ok = get(in, id) && get(in, p) && id < e.bodies.size();
+        if (!ok) break;
+        if (kind == Input::Teleport) {
+          set_pose(id, p);
+        } else if (kind == Input::Odometry) {
+          set_odometry(id, p);
+        } else {
+          command(id, {kind == Input::Goto ? CommandMode::Goto : CommandMode::Velocity, p});
+        }
+        break;
+      case Input::Wanted: {
+        SensorKind sensor{};
+        ok = get(in, sensor) && get(in, index) && get(in, flag);
+        if (ok) set_wanted({sensor, index}, flag != 0);
+        break;
+      }
+      case Input::Gripper:
+        ok = get(in, index) && get(in, flag) && index < e.grippers.size();
+        if (ok) set_gripper(index, flag != 0);
+        break;
+      case Input::CameraSize: {
+        int32_t w = 0, h = 0;
+        ok = get(in, index) && get(in, w) && get(in, h) && index < e.cameras.size();
+        if (ok) set_camera_size(index, w, h);
+        break;
+      }
+      default:
+        ok = false;
+    }
+  }
+  e.journal = journal;
+  return ok;
 }
 
 }  // namespace troupe::sim

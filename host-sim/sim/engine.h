@@ -286,6 +286,8 @@ struct Engine {
   /// World::Residence per robot, as bytes; empty while the world is not
   /// divided (every robot owned), so an undivided step reads nothing more.
   std::vector<uint8_t> residence;
+  /// World::set_journal(): where inputs are recorded, or nullptr.
+  std::vector<std::byte>* journal = nullptr;
   static constexpr uint8_t kOwned = uint8_t(World::Residence::Owned);
   static constexpr uint8_t kAbsent = uint8_t(World::Residence::Absent);
 

@@ -350,6 +350,15 @@ class World {
   /// false, and `in` left where the error was, when the bytes do not fit.
   bool restore_robot(RobotId id, std::span<const std::byte>& in);
 
+  /// While `journal` is set, every input the world takes (command,
+  /// set_pose, set_odometry, set_wanted, set_gripper, set_camera_size) is
+  /// also appended to it, so the process serving clients can hand them to
+  /// the processes that own the robots. nullptr stops it.
+  void set_journal(std::vector<std::byte>* journal);
+  /// Takes the inputs a journal holds, in their order (none is journaled
+  /// again). False at the first record that is not one.
+  bool replay(std::span<const std::byte> journal);
+
   // ---- Inspection ------------------------------------------------------------
 
   /// The robot's outline at its current pose, world frame (snapshots,

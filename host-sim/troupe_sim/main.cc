@@ -151,6 +151,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   troupe::StopOnSignal stop_on_signal(runner.node().loop(), [&runner] { runner.request_stop(); });
+  // A divided run's other processes follow the leader, which alone
+  // serves, prints and draws.
+  if (division && !division->first()) return runner.run();
   const troupe::sim::World& w = runner.world();
   size_t controlled = 0;
   // --no-ctrl leaves every robot to the wire, whatever the world file names.
@@ -178,6 +181,9 @@ int main(int argc, char** argv) {
     troupe::log_info("ARIA programs connect to robot %s with -remoteHost %s -remoteRobotTcpPort %u",
                      w.robot(0).name.c_str(), options.listen.c_str(), unsigned(runner.p2os_tcp().port(0)));
   }
-  if (!start_viewer(runner.port())) return 1;
+  if (!start_viewer(runner.port())) {
+    runner.release_followers();
+    return 1;
+  }
   return runner.run();
 }

@@ -42,9 +42,11 @@ class Runner {
   /// the snapshot or the trajectory log could not be written.
   int run();
   /// Safe from any thread or a signal watcher.
-  /// Safe from a signal handler. A divided run stops once every process
-  /// has heard, at the same step.
-  void request_stop() { (division_ ? stop_asked_ : stop_) = true; }
+  /// Safe from a signal handler. In a divided run the leader's stop ends
+  /// the others' runs.
+  void request_stop() { stop_ = true; }
+  /// A divided run's leader giving up before run(): the others stop too.
+  void release_followers();
 
   /// The bound TCP port of the main server (0 without one).
   uint16_t port() const;
@@ -68,6 +70,13 @@ class Runner {
   void serve(int64_t wait_us);
   void progress(bool final);
   void reset();
+  /// One step of the world (every process of a divided run takes part).
+  void step_once();
+  /// Sensors computed where the robots stand, without a step.
+  void refresh();
+  void reset_world();
+  /// A divided run's other processes: the leader's orders until it stops.
+  int follow();
   bool start_emulation(std::string& error);
   void step_emulation();
 
@@ -87,6 +96,7 @@ class Runner {
   uint64_t emulation_wall_us_ = 0;
   TrajectoryLog log_;
   Division* division_ = nullptr;
+  bool mirror_ = false;  // the leader's world gets every robot's state
   std::vector<Pose> gathered_;  // every robot's pose, first process, divided runs
   double quit_time_ = 0;
   // simulation:0 Step requests, oldest first, run in slices between polls.
@@ -98,7 +108,6 @@ class Runner {
   std::deque<QueuedSteps> queued_steps_;
   double next_snapshot_ = 0;
   std::atomic<bool> stop_{false};
-  std::atomic<bool> stop_asked_{false};
   RateMeter rate_;
   uint64_t progress_wall_us_ = 0;
   bool progress_shown_ = false;
