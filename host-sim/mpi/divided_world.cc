@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "host-sim/sim/bytes.h"
+#include "host-sim/sim/static_map.h"
 
 namespace troupe::sim::mpi {
 namespace {
@@ -60,8 +61,33 @@ void DividedWorld::restart(World& world) {
     if (mine) owned_.push_back(i);
   }
   ghosts_.clear();
+  fit_map(world);
   // The ghosts the first sensors see (nobody has moved yet).
   proposed(world);
+}
+
+void DividedWorld::fit_map(World& world) {
+  if (first() || comm_.size() == 1) return;
+  Vec2 lo, hi;
+  tiles_.region(comm_.rank(), lo, hi);
+  // What this rank's robots can reach: its region and the halo.
+  const StaticMap& map = world.map();
+  const Vec2 grid_lo = map.origin(),
+             grid_hi = grid_lo + Vec2{map.width() * map.resolution(), map.height() * map.resolution()};
+  auto clip = [&](Vec2 p) {
+    return Vec2{std::clamp(p.x, grid_lo.x, grid_hi.x), std::clamp(p.y, grid_lo.y, grid_hi.y)};
+  };
+  const Vec2 need_lo = clip(lo - Vec2{halo_, halo_}), need_hi = clip(hi + Vec2{halo_, halo_});
+  if (held_lo_.x <= need_lo.x && held_lo_.y <= need_lo.y && held_hi_.x >= need_hi.x && held_hi_.y >= need_hi.y)
+    return;
+  // A halo more each way, so regions redrawn a little need no new map.
+  held_lo_ = clip(need_lo - Vec2{halo_, halo_});
+  held_hi_ = clip(need_hi + Vec2{halo_, halo_});
+  if (!world.keep_map_within(held_lo_, held_hi_)) {
+    held_lo_ = grid_lo;  // held whole: never rebuilt
+    held_hi_ = grid_hi;
+  }
+  ++map_builds_;
 }
 
 DividedWorld::Order DividedWorld::sync(World& world, Order order) {
@@ -212,6 +238,7 @@ void DividedWorld::rebalance(World& world) {
   }
   tiles_ = Tiles::balanced(comm_.size(), centres);
   ++rebalances_;
+  fit_map(world);
 }
 
 void DividedWorld::after_step(World& world) {
@@ -241,13 +268,13 @@ bool DividedWorld::gather_poses(const World& world, std::vector<Pose>& poses) {
   return true;
 }
 
-std::string DividedWorld::report() {
+std::string DividedWorld::report(const World& world) {
   struct Row {
-    uint64_t robots, bytes, messages, migrations;
+    uint64_t robots, bytes, messages, migrations, world_bytes, map_builds;
     double comm_s, wall_s;
   };
-  const Row mine{owned_.size(), comm_.bytes_sent(), comm_.messages_sent(), migrations_, comm_.seconds(),
-                 wall_s() - started_s_};
+  const Row mine{owned_.size(),         comm_.bytes_sent(), comm_.messages_sent(), migrations_,
+                 world.memory_bytes(), map_builds_,        comm_.seconds(),       wall_s() - started_s_};
   Bytes b;
   put(b, mine);
   std::vector<Bytes> all;
@@ -255,10 +282,10 @@ std::string DividedWorld::report() {
   if (!first()) return "";
   const double steps = double(std::max<uint64_t>(steps_, 1));
   std::string out;
-  char line[200];
+  char line[240];
   std::snprintf(line, sizeof line,
                 "%d ranks (%d x %d tiles), halo %.2f m, %llu steps, regions redrawn %llu times\n"
-                "rank  robots  bytes/step  messages/step  migrated  exchanging s  other s\n",
+                "rank  robots  bytes/step  messages/step  migrated  exchanging s  other s  world MB  map builds\n",
                 tiles_.ranks(), tiles_.cols(), tiles_.rows(), halo_, static_cast<unsigned long long>(steps_),
                 static_cast<unsigned long long>(rebalances_));
   out += line;
@@ -266,10 +293,11 @@ std::string DividedWorld::report() {
     Row row{};
     std::span<const std::byte> in(all[r]);
     if (!get(in, row)) continue;
-    std::snprintf(line, sizeof line, "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f\n", r,
+    std::snprintf(line, sizeof line, "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f  %8.1f  %10llu\n", r,
                   static_cast<unsigned long long>(row.robots), double(row.bytes) / steps,
                   double(row.messages) / steps, static_cast<unsigned long long>(row.migrations), row.comm_s,
-                  row.wall_s - row.comm_s);
+                  row.wall_s - row.comm_s, double(row.world_bytes) / 1e6,
+                  static_cast<unsigned long long>(row.map_builds));
     out += line;
   }
   return out;

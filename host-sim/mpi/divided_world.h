@@ -40,7 +40,7 @@ class DividedWorld final : public Division {
   bool gather_poses(const World& world, std::vector<Pose>& poses) override;
   bool first() const override { return comm_.rank() == 0; }
   bool any(bool mine) override { return comm_.any(mine); }
-  std::string report() override;
+  std::string report(const World& world) override;
 
   /// The regions as they stand.
   const Tiles& tiles() const { return tiles_; }
@@ -55,6 +55,10 @@ class DividedWorld final : public Division {
   void migrate(World& world);
   /// New tiles from every rank's robots, then migrate().
   void rebalance(World& world);
+  /// Other ranks than the leader (which serves and draws the whole map)
+  /// hold the static map around their region only; rebuilt when a new
+  /// region needs more than the part held.
+  void fit_map(World& world);
   /// The ghosts of the last exchange back to absent.
   void forget_ghosts(World& world);
   /// Robot `id`'s record: its number, its state's length, its state.
@@ -74,9 +78,12 @@ class DividedWorld final : public Division {
   // The robots sent to each rank as ghosts by proposed(), whose final
   // poses moved() sends the same way.
   std::vector<std::vector<RobotId>> sent_;
+  // The part of the map this rank holds (world frame, m); empty: all.
+  Vec2 held_lo_{0, 0}, held_hi_{-1, -1};
   uint64_t steps_ = 0;
   uint64_t migrations_ = 0;  // robots this rank handed over
   uint64_t rebalances_ = 0;
+  uint64_t map_builds_ = 0;
   double started_s_ = 0;  // wall clock at start(), s
 };
 

@@ -59,6 +59,12 @@ int Tiles::owner(Vec2 p) const {
   return interval(y_cuts_, p.y) * cols_ + interval(x_cuts_, p.x);
 }
 
+void Tiles::region(int rank, Vec2& lo, Vec2& hi) const {
+  const int c = rank % cols_, r = rank / cols_;
+  lo = {c > 0 ? x_cuts_[size_t(c - 1)] : -INFINITY, r > 0 ? y_cuts_[size_t(r - 1)] : -INFINITY};
+  hi = {c < cols_ - 1 ? x_cuts_[size_t(c)] : INFINITY, r < rows_ - 1 ? y_cuts_[size_t(r)] : INFINITY};
+}
+
 void Tiles::near(Vec2 p, double halo, std::vector<int>& out) const {
   out.clear();
   const int c0 = interval(x_cuts_, p.x - halo), c1 = interval(x_cuts_, p.x + halo);

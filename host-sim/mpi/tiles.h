@@ -29,6 +29,8 @@ class Tiles {
   /// The rank whose region holds `p` (a point on a cut belongs to the
   /// region above it).
   int owner(Vec2 p) const;
+  /// Rank `rank`'s region, [lo, hi) (m; infinite on the outer sides).
+  void region(int rank, Vec2& lo, Vec2& hi) const;
   /// Every rank whose region, grown by `halo` m on every side, holds `p`,
   /// ascending, into `out` (cleared first). The owner is among them.
   void near(Vec2 p, double halo, std::vector<int>& out) const;

@@ -55,9 +55,10 @@ class Division : public World::StepExchange {
   /// process met stops them all, not it alone. Collective.
   virtual bool any(bool mine) = 0;
   /// A table of what each process did: robots owned, bytes and messages
-  /// exchanged per step, time spent exchanging against stepping.
+  /// exchanged per step, time spent exchanging against stepping, memory
+  /// its world holds.
   /// Collective; the text on the leader, "" elsewhere.
-  virtual std::string report() = 0;
+  virtual std::string report(const World& world) = 0;
 };
 
 }  // namespace troupe::sim

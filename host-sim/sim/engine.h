@@ -158,6 +158,10 @@ struct Engine {
   // build.cc
   void build();
   void build_statics();
+  /// Rasterizes the statics into `map` over [map_lo, map_hi]; with a
+  /// window (lo, hi: two points), only the cells within it
+  /// (World::keep_map_within).
+  void build_map(const Vec2* window);
   void build_robot(const RobotDesc& r);
   void start_robot(RobotId i);
 
@@ -250,6 +254,7 @@ struct Engine {
   WorldDesc desc;
   Random random;
   StaticMap map;
+  Vec2 map_lo, map_hi;  // the whole map's grid, world frame, m
   SpatialHash hash;
   Profile profile;
   size_t ph_control, ph_integrate, ph_broadphase, ph_collide, ph_grippers, ph_odometry, ph_rangers,

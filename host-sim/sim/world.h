@@ -341,6 +341,14 @@ class World {
   /// step() for a divided world: the same phases, with the exchange.
   void step(StepExchange& exchange);
 
+  /// Holds only the part of the static map within [lo, hi] (world frame,
+  /// m) and as far around it as the distance field reaches, for a process
+  /// that steps robots there alone: rays, collisions and sensors there
+  /// read what the whole map holds, while memory falls with the window.
+  /// The grid, its origin and size stay the whole map's. False when the
+  /// map is small enough to be kept whole (it reads no coarse level).
+  bool keep_map_within(Vec2 lo, Vec2 hi);
+
   /// Appends everything of robot `id` that changes as it runs (pose,
   /// velocity, command, odometry and its error, battery, its sensors' last
   /// readings and wanted flags, its controller memory) to `out`, for the

@@ -297,7 +297,7 @@ int Runner::follow() {
         reset_world();
         break;
       case Division::Order::Stop:
-        if (options_.profile) division_->report();
+        if (options_.profile) division_->report(*world_);
         return 0;
     }
   }
@@ -358,7 +358,7 @@ int Runner::run() {
   }
   if (options_.profile) {
     // Every process takes part in the division's report; the first prints.
-    const std::string divided = division_ ? division_->report() : "";
+    const std::string divided = division_ ? division_->report(*world_) : "";
     std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
   }
   return 0;
