@@ -34,8 +34,9 @@ void put_motion(Bytes& out, RobotId id, const World::GhostMotion& m) {
 
 }  // namespace
 
+DividedWorld::DividedWorld(Comm& comm, Options options) : comm_(comm), options_(options), started_s_(wall_s()) {}
+
 bool DividedWorld::start(World& world, std::string& error) {
-  started_s_ = wall_s();
   if (!world.divisible(error)) {
     error = "this world cannot be divided between processes: " + error;
     return false;

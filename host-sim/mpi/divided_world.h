@@ -26,7 +26,7 @@ class DividedWorld final : public Division {
     uint64_t rebalance_every = 100;
   };
 
-  DividedWorld(Comm& comm, Options options) : comm_(comm), options_(options) {}
+  DividedWorld(Comm& comm, Options options);
 
   bool start(World& world, std::string& error) override;
   Order sync(World& world, Order order) override;
@@ -84,7 +84,7 @@ class DividedWorld final : public Division {
   uint64_t migrations_ = 0;  // robots this rank handed over
   uint64_t rebalances_ = 0;
   uint64_t map_builds_ = 0;
-  double started_s_ = 0;  // wall clock at start(), s
+  double started_s_ = 0;  // wall clock when made, s
 };
 
 }  // namespace troupe::sim::mpi

@@ -63,6 +63,44 @@ std::string corner_world() {
   return w.str();
 }
 
+// 72 x 72 m at 0.02 m (13 million cells: the map reads its coarse level,
+// so a rank holds only its part): pillars every 6 m, 81 wanderers with
+// sonar rings between them, mirrored so the first cuts fall at 0.
+std::string large_world() {
+  std::ostringstream w;
+  w << "resolution 0.02\ninterval_sim 100\n"
+       "model ( name \"hall\" size [72 72] obstacle_return 1 boundary 1\n";
+  for (int i = -5; i <= 5; ++i) {
+    for (int j = -5; j <= 5; ++j) {
+      const double x = 6.0 * i, y = 6.0 * j;
+      w << "  block ( points 4 point[0] [" << x - 0.4 << " " << y - 0.4 << "] point[1] [" << x + 0.4 << " "
+        << y - 0.4 << "] point[2] [" << x + 0.4 << " " << y + 0.4 << "] point[3] [" << x - 0.4 << " "
+        << y + 0.4 << "] )\n";
+    }
+  }
+  // Stage fits a model's blocks to its size: blocks in the far corners
+  // make that fit the identity.
+  for (int c : {-1, 1}) {
+    const double a = 36.0 * c, b = a - 0.2 * c;
+    w << "  block ( points 4 point[0] [" << a << " " << a << "] point[1] [" << b << " " << a << "] point[2] [" << b
+      << " " << b << "] point[3] [" << a << " " << b << "] )\n";
+  }
+  w << ")\n"
+       "define sonar sensor ( range [ 0 3 ] fov 20 samples 1 )\n"
+       "define ring ranger ( sonar ( pose [ 0.15 0 0 0 ] ) sonar ( pose [ 0 0.15 0 90 ] )\n"
+       "  sonar ( pose [ -0.15 0 0 180 ] ) sonar ( pose [ 0 -0.15 0 270 ] ) )\n"
+       "define bot position ( size [ 0.3 0.3 0.2 ] ring ( ) ctrl \"wander speed=0.6 turn=1.0 avoid=0.6\" )\n";
+  int n = 0;
+  for (int i = -4; i <= 4; ++i) {
+    for (int j = -4; j <= 4; ++j) {
+      w << "bot ( name \"w" << n << "\" pose [ " << 6.0 * i + 3 << " " << 6.0 * j + 3 << " 0 " << (n * 53) % 360
+        << " ] )\n";
+      ++n;
+    }
+  }
+  return w.str();
+}
+
 class Divided : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -165,6 +203,39 @@ TEST_F(Divided, CollisionsCrossingsAndACornerCrowdGiveTheSameBytes) {
   const std::vector<std::string> moving = {"--quit-time", "20", "--rebalance-every", "3"};
   EXPECT_TRUE(run(world, 4, moving) == one) << "4 ranks, rebalanced: the logs differ";
   EXPECT_TRUE(run(world, 3, moving) == one) << "3 ranks, rebalanced: the logs differ";
+}
+
+// World memory of each rank, from the division's table.
+std::vector<double> world_mb(const std::string& report) {
+  std::vector<double> mb;
+  const size_t table = report.find("rank  robots");
+  if (table == std::string::npos) return mb;
+  std::istringstream rows(report.substr(report.find('\n', table) + 1));
+  std::string line;
+  while (std::getline(rows, line)) {
+    std::istringstream f(line);
+    double v[8];
+    bool ok = true;
+    for (double& x : v) ok = ok && bool(f >> x);
+    if (!ok) break;
+    mb.push_back(v[7]);
+  }
+  return mb;
+}
+
+TEST_F(Divided, RanksHoldTheirPartOfALargeMapAndSeeWhatTheWholeMapHolds) {
+  const std::string world = write("large.world", large_world());
+  const std::vector<std::string> more = {"--quit-time", "15", "--rebalance-every", "40", "--profile"};
+  const std::string one = run(world, 0, more);
+  for (int ranks : {2, 4}) {
+    std::string report;
+    EXPECT_TRUE(run(world, ranks, more, &report) == one) << ranks << " ranks: the logs differ";
+    // The leader holds the whole map (it serves and draws it); each other
+    // rank less than half of it at 2 ranks, less still at 4.
+    const std::vector<double> mb = world_mb(report);
+    ASSERT_EQ(mb.size(), size_t(ranks)) << report;
+    for (int r = 1; r < ranks; ++r) EXPECT_LT(mb[size_t(r)], 0.75 * mb[0]) << report;
+  }
 }
 
 TEST_F(Divided, WhatCannotBeDividedIsRefusedByEveryRankWithItsReason) {
