@@ -121,6 +121,13 @@ std::string wandering_smallbots(const std::vector<sim::Pose>& poses) {
   return text;
 }
 
+// Writes a world's text as `dir`/`name`; its path.
+std::string write_text(const std::string& dir, const char* name, const std::string& text) {
+  const std::string path = (std::filesystem::path(dir) / name).string();
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
 // The cave of simple.world with `n` Pioneers (laser and sonars) wandering.
 std::string cave_world(const Scratch& dir, int n) {
   world::GrayImage cave;
@@ -198,10 +205,7 @@ std::string write_campus(const std::string& dir, std::string& err) {
   text +=
       "model ( name \"campus\" size [1000 700 1] color \"gray30\" obstacle_return 1 bitmap \"campus.png\" "
       ")\n";
-  text += wandering_smallbots(poses);
-  const std::string path = (std::filesystem::path(dir) / "campus.world").string();
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
+  return write_text(dir, "campus.world", text + wandering_smallbots(poses));
 }
 
 bool row_campus(const Settings& s, Summary& out) {
@@ -254,11 +258,7 @@ std::string write_scale_world(const std::string& dir, int robots, std::string& e
   std::snprintf(floor, sizeof floor,
                 "model ( name \"office\" size [%.3f %.3f 1] color \"gray30\" bitmap \"office.png\" )\n",
                 width, height);
-  text += floor;
-  text += wandering_smallbots(poses);
-  const std::string path = (std::filesystem::path(dir) / "office.world").string();
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
+  return write_text(dir, "office.world", text + floor + wandering_smallbots(poses));
 }
 
 bool row_scale100k(const Settings& s, Summary& out) {
