@@ -8,7 +8,7 @@
 // robots: 1.4 million cells) is kept sparse: the robots sorted by row, and
 // in a row by column, and a query finds its columns in each row it spans by
 // binary search, so a step's rebuild costs the robots, not the cells (it was
-// a fifth of such a world's step). Both keep the robots in the same order
+// over a third of such a world's step). Both keep the robots in the same order
 // (row-major cells, a cell's robots by index), and a query visits the same
 // ranges of it, so every result is the same whichever is used.
 #pragma once
