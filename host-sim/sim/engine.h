@@ -203,6 +203,15 @@ struct Engine {
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
   /// The same with the cosine and sine of its heading given (`turn`).
   double ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const;
+  /// A robot seen from one ray origin, for the many rays from there: the
+  /// origin in the robot's frame, and its outline's vertices less it.
+  struct SeenOutline {
+    Vec2 turn, o;
+    std::vector<Vec2> rel;
+  };
+  void seen_from(RobotId j, Vec2 turn, Vec2 origin, SeenOutline& seen);
+  /// ray_robot from the origin `seen` was made for: the same result.
+  double ray_robot(RobotId j, const SeenOutline& seen, Vec2 dir) const;
   /// Lowers the ranges (m) of ranger `rs`'s beams, cast as ray_queries
   /// with the walls' ranges in `out`, to the robots they meet first, and
   /// sets those beams' intensities. Three ways to the same result: these
@@ -294,6 +303,7 @@ struct Engine {
     Vec2 turn;
   };
   std::vector<Candidate> ranger_candidates;
+  SeenOutline seen_outline;
   std::vector<RayQuery> ray_queries;
   World::RangerRobots ranger_robots = World::RangerRobots::Auto;
   // The robots for rangers as a layer of cells (robot_layer.h), built at

@@ -29,18 +29,51 @@ double Engine::ray_robot(RobotId j, Vec2 origin, Vec2 dir) const {
   return ray_robot(j, {std::cos(a), std::sin(a)}, origin, dir);
 }
 
+namespace {
+
+// A world vector (m) in the frame of a robot whose heading's cosine and sine
+// are `turn`, where its outline is stored. One expression for every caller,
+// so each gets the same doubles.
+Vec2 into_frame(Vec2 turn, Vec2 v) {
+  return {turn.x * v.x + turn.y * v.y, -turn.y * v.x + turn.x * v.y};
+}
+
+}  // namespace
+
 double Engine::ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const {
   const Body& b = bodies[j];
-  // Into the robot's frame, where its outline is stored.
-  const double c = turn.x, s = turn.y;
-  const Vec2 d0{origin.x - b.pose.x, origin.y - b.pose.y};
-  const Vec2 o{c * d0.x + s * d0.y, -s * d0.x + c * d0.y};
-  const Vec2 d{c * dir.x + s * dir.y, -s * dir.x + c * dir.y};
+  const Vec2 o = into_frame(turn, origin - Vec2{b.pose.x, b.pose.y}), d = into_frame(turn, dir);
   double best = -1;
   for (uint32_t k = 0; k < b.poly_count; ++k) {
     const PolyRef& p = polys[b.poly_first + k];
     double t = ray_polygon(o, d, {verts.data() + p.first, p.count});
     if (t >= 0 && (best < 0 || t < best)) best = t;
+  }
+  return best;
+}
+
+void Engine::seen_from(RobotId j, Vec2 turn, Vec2 origin, SeenOutline& seen) {
+  const Body& b = bodies[j];
+  seen.o = into_frame(turn, origin - Vec2{b.pose.x, b.pose.y});
+  seen.turn = turn;
+  seen.rel.clear();
+  for (uint32_t k = 0; k < b.poly_count; ++k) {
+    const PolyRef& p = polys[b.poly_first + k];
+    for (uint32_t v = p.first; v < p.first + p.count; ++v) seen.rel.push_back(verts[v] - seen.o);
+  }
+}
+
+double Engine::ray_robot(RobotId j, const SeenOutline& seen, Vec2 dir) const {
+  // ray_robot's loop, the origin's part done once.
+  const Body& b = bodies[j];
+  const Vec2 d = into_frame(seen.turn, dir);
+  double best = -1;
+  const Vec2* rel = seen.rel.data();
+  for (uint32_t k = 0; k < b.poly_count; ++k) {
+    const PolyRef& p = polys[b.poly_first + k];
+    double t = ray_polygon(seen.o, d, {verts.data() + p.first, p.count}, rel);
+    if (t >= 0 && (best < 0 || t < best)) best = t;
+    rel += p.count;
   }
   return best;
 }
@@ -107,6 +140,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
     const Vec2 o{org.x, org.y};
     for (Candidate& cand : ranger_candidates) {
       const double dx = cand.x - o.x, dy = cand.y - o.y;
+      bool seen = false;  // seen_outline holds the robot seen from o
       // Lowers beam s of the transducer to the robot, where it is nearer.
       // Nearer than `near`, nothing of the robot is: beams that stopped at
       // a wall before it cannot see it.
@@ -118,7 +152,11 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
           const double a = bodies[cand.index].pose.a;
           cand.turn = {std::cos(a), std::sin(a)};
         }
-        const double hit = ray_robot(cand.index, cand.turn, q.origin, q.dir);
+        if (!seen) {
+          seen_from(cand.index, cand.turn, q.origin, seen_outline);
+          seen = true;
+        }
+        const double hit = ray_robot(cand.index, seen_outline, q.dir);
         if (hit >= 0 && hit < r) {
           r = float(hit);
           inten[first + uint32_t(s)] = bodies[cand.index].ranger_return;

@@ -174,6 +174,52 @@ TEST(RaySegment, SkippingTheDivisionsChangesNoResult) {
   EXPECT_LT(hits, n * 9 / 10);
 }
 
+// ray_polygon skips the edges whose ends lie clearly on one side of the
+// ray's line; it must give what testing every edge gives, to the bit, also
+// for rays through a vertex, along an edge or from a vertex.
+double ray_polygon_every_edge(Vec2 o, Vec2 d, const std::vector<Vec2>& poly) {
+  double best = -1;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const double t = ray_segment_plain(o, d, poly[i], poly[(i + 1) % poly.size()]);
+    if (t >= 0 && (best < 0 || t < best)) best = t;
+  }
+  return best;
+}
+
+TEST(RayPolygon, SkippingEdgesOnOneSideChangesNoResult) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1), ang(-kPi, kPi);
+  size_t hits = 0, n = 0;
+  for (int i = 0; i < 100000; ++i) {
+    // A star-shaped polygon of 3 to 9 vertices about the origin, 0.05 to
+    // 0.5 m out (convex or not), seen from up to 8 m away.
+    std::vector<Vec2> poly;
+    const int count = 3 + int(rng() % 7);
+    const double a0 = ang(rng);
+    for (int k = 0; k < count; ++k) {
+      const double a = a0 + 2 * kPi * (k + 0.4 * u(rng)) / count, r = 0.275 + 0.225 * u(rng);
+      poly.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    Vec2 o{8 * u(rng), 8 * u(rng)};
+    double heading = ang(rng);
+    const Vec2 v = poly[rng() % poly.size()], w = poly[(rng() % poly.size())];
+    // Rays aimed at a vertex, along an edge's line, from a vertex, or anywhere.
+    if (i % 4 == 0) heading = std::atan2(v.y - o.y, v.x - o.x);
+    if (i % 4 == 1 && !(v.x == w.x && v.y == w.y)) {
+      o = v + 2 * (v - w);
+      heading = std::atan2(w.y - v.y, w.x - v.x);
+    }
+    if (i % 4 == 2) o = v;
+    const Vec2 d{std::cos(heading), std::sin(heading)};
+    const double want = ray_polygon_every_edge(o, d, poly), got = ray_polygon(o, d, poly);
+    ++n;
+    hits += want >= 0;
+    ASSERT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "case " << i << ": " << got << " against " << want;
+  }
+  EXPECT_GT(hits, n / 10);  // both outcomes are exercised
+  EXPECT_LT(hits, n * 9 / 10);
+}
+
 TEST(RobotLayer, AnEmptyLayerWalksNoCell) {
   SpatialHash hash;
   hash.reset({-1, -1}, {1, 1}, 0.5);
