@@ -89,14 +89,87 @@ double Engine::ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const {
   return best;
 }
 
+namespace {
+
+// m a polygon must lie inside another, and a ray's origin outside it, for
+// the inner one to be skipped: far above the rounding of any ray's t.
+constexpr double kNestMargin = 1e-6;
+
+// Signed distance (m) of p from the line through edge [a, b] of a convex
+// polygon of orientation `turning` (+1 counter-clockwise, -1 clockwise):
+// positive inside.
+double inside_by(Vec2 a, Vec2 b, double turning, Vec2 p) {
+  return turning * cross(b - a, p - a) / length(b - a);
+}
+
+// inside_by(a, b, turning, p) < -kNestMargin, without its division.
+bool outside_edge(Vec2 a, Vec2 b, double turning, Vec2 p) {
+  const double c = turning * cross(b - a, p - a);
+  return c < 0 && c * c > kNestMargin * kNestMargin * length_squared(b - a);
+}
+
+// +1 or -1 when the polygon is strictly convex, counter-clockwise or
+// clockwise; 0 otherwise.
+double convex_turning(std::span<const Vec2> poly) {
+  const size_t n = poly.size();
+  if (n < 3) return 0;
+  int pos = 0, neg = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double c = cross(poly[(i + 1) % n] - poly[i], poly[(i + 2) % n] - poly[(i + 1) % n]);
+    pos += c > 0;
+    neg += c < 0;
+  }
+  return pos == int(n) ? 1.0 : (neg == int(n) ? -1.0 : 0.0);
+}
+
+}  // namespace
+
+void Engine::nest_outlines() {
+  // Outlines never change once built, so each polygon is looked at once.
+  const size_t from = poly_within.size();
+  poly_within.resize(polys.size(), {-1, 0});
+  for (const Body& b : bodies) {
+    const uint32_t end = b.poly_first + b.poly_count;
+    if (end <= from) continue;
+    for (uint32_t k = std::max<uint32_t>(b.poly_first, uint32_t(from)); k < end; ++k) {
+      const std::span<const Vec2> inner{verts.data() + polys[k].first, polys[k].count};
+      for (uint32_t m = b.poly_first; m < end && poly_within[k].outer < 0; ++m) {
+        const std::span<const Vec2> outer{verts.data() + polys[m].first, polys[m].count};
+        const double turning = m == k ? 0 : convex_turning(outer);
+        if (turning == 0) continue;
+        bool inside = !inner.empty();
+        for (size_t e = 0; e < outer.size() && inside; ++e) {
+          for (Vec2 p : inner)
+            inside = inside && inside_by(outer[e], outer[(e + 1) % outer.size()], turning, p) > kNestMargin;
+        }
+        if (inside) poly_within[k] = {int32_t(m), turning};
+      }
+    }
+  }
+}
+
 void Engine::seen_from(RobotId j, Vec2 turn, Vec2 origin, SeenOutline& seen) {
+  if (poly_within.size() != polys.size()) nest_outlines();
   const Body& b = bodies[j];
   seen.o = into_frame(turn, origin - Vec2{b.pose.x, b.pose.y});
   seen.turn = turn;
   seen.rel.clear();
+  seen.skip.clear();
   for (uint32_t k = 0; k < b.poly_count; ++k) {
     const PolyRef& p = polys[b.poly_first + k];
     for (uint32_t v = p.first; v < p.first + p.count; ++v) seen.rel.push_back(verts[v] - seen.o);
+    // A polygon inside a convex one, seen from outside that: every ray
+    // meets the outer one first, at least kNestMargin nearer, so the inner
+    // one cannot be the nearest hit and need not be tested.
+    bool skip = false;
+    if (const Nest n = poly_within[b.poly_first + k]; n.outer >= 0) {
+      const PolyRef& m = polys[uint32_t(n.outer)];
+      for (uint32_t e = 0; e < m.count && !skip; ++e) {
+        const Vec2 a = verts[m.first + e], c = verts[m.first + (e + 1 == m.count ? 0 : e + 1)];
+        skip = outside_edge(a, c, n.turning, seen.o);
+      }
+    }
+    seen.skip.push_back(skip);
   }
 }
 
@@ -108,8 +181,10 @@ double Engine::ray_robot(RobotId j, const SeenOutline& seen, Vec2 dir) const {
   const Vec2* rel = seen.rel.data();
   for (uint32_t k = 0; k < b.poly_count; ++k) {
     const PolyRef& p = polys[b.poly_first + k];
-    double t = ray_polygon(seen.o, d, {verts.data() + p.first, p.count}, rel);
-    if (t >= 0 && (best < 0 || t < best)) best = t;
+    if (!seen.skip[k]) {
+      double t = ray_polygon(seen.o, d, {verts.data() + p.first, p.count}, rel);
+      if (t >= 0 && (best < 0 || t < best)) best = t;
+    }
     rel += p.count;
   }
   return best;

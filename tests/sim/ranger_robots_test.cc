@@ -1,8 +1,9 @@
 // Rangers among many robots: the per-step robot layer (robot_layer.h), the
 // per-robot candidates and the plain test of every robot against every beam
 // give the same ranges and intensities, beam by beam and bit for bit, on
-// random packed crowds of moving robots of several shapes; and the ray-edge
-// test under all three gives what its plain formula gives.
+// random packed crowds of moving robots of several shapes (some with a
+// polygon inside another); and the ray-edge and ray-polygon tests under all
+// three give what their plain formulas give.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,6 +37,15 @@ WorldDesc packed_crowd(uint64_t seed, int n, double pitch) {
     const double side = 0.1 + 0.2 * u(rng);
     RobotDesc r = test::robot("r" + std::to_string(i), {x, y, (u(rng) - 0.5) * 2 * kPi}, side);
     if (u(rng) < 0.3) r.polygons = {{{-side / 2, -side / 2}, {side / 2, 0}, {-side / 2, side / 2}}};
+    if (u(rng) < 0.3) {
+      // A second polygon inside the first (as a laser's block sits inside
+      // a Pioneer's): rays from outside meet the outer one first.
+      if (r.polygons.empty())
+        r.polygons = {
+            {{-side / 2, -side / 2}, {side / 2, -side / 2}, {side / 2, side / 2}, {-side / 2, side / 2}}};
+      const double c = -side / 8, h = side / 16;
+      r.polygons.push_back({{c - h, -h}, {c + h, -h}, {c + h, h}, {c - h, h}});
+    }
     r.look.ranger_return = u(rng) < 0.1 ? -1 : (u(rng) < 0.5 ? 0.25 : 0.5);
     if (u(rng) < 0.7) {
       RangerDesc ring;
