@@ -139,8 +139,9 @@ void Engine::nest_outlines() {
         if (turning == 0) continue;
         bool inside = !inner.empty();
         for (size_t e = 0; e < outer.size() && inside; ++e) {
-          for (Vec2 p : inner)
+          for (Vec2 p : inner) {
             inside = inside && inside_by(outer[e], outer[(e + 1) % outer.size()], turning, p) > kNestMargin;
+          }
         }
         if (inside) poly_within[k] = {int32_t(m), turning};
       }

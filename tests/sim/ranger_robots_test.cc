@@ -221,10 +221,17 @@ TEST(RayPolygon, SkippingEdgesOnOneSideChangesNoResult) {
     }
     if (i % 4 == 2) o = v;
     const Vec2 d{std::cos(heading), std::sin(heading)};
-    const double want = ray_polygon_every_edge(o, d, poly), got = ray_polygon(o, d, poly);
+    // Also with the vertices less the origin given, as the candidates' way
+    // gives them for all the beams from one origin.
+    std::vector<Vec2> rel;
+    for (Vec2 p : poly) rel.push_back(p - o);
+    const double want = ray_polygon_every_edge(o, d, poly), got = ray_polygon(o, d, poly),
+                 got_rel = ray_polygon(o, d, poly, rel.data());
     ++n;
     hits += want >= 0;
     ASSERT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "case " << i << ": " << got << " against " << want;
+    ASSERT_EQ(std::memcmp(&want, &got_rel, sizeof want), 0)
+        << "case " << i << ": " << got_rel << " against " << want;
   }
   EXPECT_GT(hits, n / 10);  // both outcomes are exercised
   EXPECT_LT(hits, n * 9 / 10);
