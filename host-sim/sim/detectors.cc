@@ -134,6 +134,9 @@ void Engine::update_fiducials() {
       } else {
         surface = std::max(0.0, range - size - map.resolution());
       }
+      // The cells rangers' beams stop at (kRangerMask), so walls that only
+      // show in the grid (a RoboCup field's rigid barrier and goals, which
+      // the physics stops robots at) hide landmarks as they stop beams.
       if (map.cast(o, dir, float(range), StaticMap::kRangerMask) < surface) return;
       for (uint32_t k : candidates) {
         if (int(k) == robot || !bodies[k].ranger_visible) continue;

@@ -207,6 +207,20 @@ struct Engine {
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
   /// The same with the cosine and sine of its heading given (`turn`).
   double ray_robot(RobotId j, Vec2 turn, Vec2 origin, Vec2 dir) const;
+  /// A robot seen from one ray origin, for the many rays from there: the
+  /// origin in the robot's frame, its outline's vertices less it, and per
+  /// polygon whether no ray from there can meet it first (`skip`: it lies
+  /// inside another, convex one, and the origin outside that).
+  struct SeenOutline {
+    Vec2 turn, o;
+    std::vector<Vec2> rel;
+    std::vector<uint8_t> skip;
+  };
+  /// Fills poly_within for the polygons built since it was last filled.
+  void nest_outlines();
+  void seen_from(RobotId j, Vec2 turn, Vec2 origin, SeenOutline& seen);
+  /// ray_robot from the origin `seen` was made for: the same result.
+  double ray_robot(RobotId j, const SeenOutline& seen, Vec2 dir) const;
   /// Lowers the ranges (m) of ranger `rs`'s beams, cast as ray_queries
   /// with the walls' ranges in `out`, to the robots they meet first, and
   /// sets those beams' intensities. Three ways to the same result: these
@@ -273,6 +287,14 @@ struct Engine {
   std::vector<RobotState> states;
   std::vector<Vec2> verts;  // robot-frame outlines
   std::vector<PolyRef> polys;
+  // Per polygon, another polygon of the same robot, convex, holding it with
+  // room to spare (`outer`, or -1), and that one's orientation (+1
+  // counter-clockwise, -1 clockwise): ranger.cc's nest_outlines.
+  struct Nest {
+    int32_t outer;
+    double turning;
+  };
+  std::vector<Nest> poly_within;
 
   std::vector<Transducer> transducers;
   std::vector<IndexRange> transducer_sets;  // the distinct transducer arrays
@@ -310,6 +332,7 @@ struct Engine {
     Vec2 turn;
   };
   std::vector<Candidate> ranger_candidates;
+  SeenOutline seen_outline;
   std::vector<RayQuery> ray_queries;
   World::RangerRobots ranger_robots = World::RangerRobots::Auto;
   // The robots for rangers as a layer of cells (robot_layer.h), built at

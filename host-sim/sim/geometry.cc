@@ -20,13 +20,42 @@ double ray_segment(Vec2 o, Vec2 d, Vec2 a, Vec2 b) {
   return (t >= 0 && u >= 0 && u <= 1) ? t : -1;
 }
 
-double ray_polygon(Vec2 o, Vec2 d, std::span<const Vec2> poly) {
-  double best = -1;
-  for (size_t i = 0, n = poly.size(); i < n; ++i) {
-    double t = ray_segment(o, d, poly[i], poly[i + 1 == n ? 0 : i + 1]);
-    if (t >= 0 && (best < 0 || t < best)) best = t;
+namespace {
+
+// ray_polygon's loop, with each vertex's side of the ray's line from
+// `side(i)`. A line crosses at most a few of a polygon's edges (two of a
+// convex one): an edge whose ends lie clearly on one side is settled by the
+// sides alone, as ray_segment would settle it (-1). kSide (m) is far above
+// the rounding of these cross products and of ray_segment's own (about
+// 1e-15 m at the ranges rays have), so only edges ray_segment surely misses
+// are skipped: the same doubles.
+template <typename Side>
+double ray_polygon_sided(Vec2 o, Vec2 d, std::span<const Vec2> poly, Side side) {
+  constexpr double kSide = 1e-9;
+  const size_t n = poly.size();
+  if (n == 0) return -1;
+  const double first = side(0);
+  double best = -1, sa = first;
+  for (size_t i = 0; i < n; ++i) {
+    const bool last = i + 1 == n;
+    const double sb = last ? first : side(i + 1);
+    if (!((sa > kSide && sb > kSide) || (sa < -kSide && sb < -kSide))) {
+      const double t = ray_segment(o, d, poly[i], poly[last ? 0 : i + 1]);
+      if (t >= 0 && (best < 0 || t < best)) best = t;
+    }
+    sa = sb;
   }
   return best;
+}
+
+}  // namespace
+
+double ray_polygon(Vec2 o, Vec2 d, std::span<const Vec2> poly) {
+  return ray_polygon_sided(o, d, poly, [&](size_t i) { return cross(d, poly[i] - o); });
+}
+
+double ray_polygon(Vec2 o, Vec2 d, std::span<const Vec2> poly, const Vec2* rel) {
+  return ray_polygon_sided(o, d, poly, [&](size_t i) { return cross(d, rel[i]); });
 }
 
 bool point_in_polygon(Vec2 p, std::span<const Vec2> poly) {

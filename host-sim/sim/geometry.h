@@ -28,6 +28,9 @@ double ray_segment(Vec2 origin, Vec2 dir, Vec2 a, Vec2 b);
 
 /// Nearest crossing of the ray with a closed polygon's edges, or negative.
 double ray_polygon(Vec2 origin, Vec2 dir, std::span<const Vec2> polygon);
+/// The same, for the many rays from one origin: `rel` holds each vertex of
+/// the polygon less the origin (m), computed once for them all.
+double ray_polygon(Vec2 origin, Vec2 dir, std::span<const Vec2> polygon, const Vec2* rel);
 
 /// True when the point is inside the closed polygon (even-odd rule).
 bool point_in_polygon(Vec2 p, std::span<const Vec2> polygon);

@@ -18,9 +18,8 @@ void Loader::robot(const Entity& e, WorldDesc& out) {
   r.name = c.name;
   // Numbered among robots only, so pucks (also in out.robots) do not shift
   // the names robots had when pucks were static.
-  const auto robots =
-      std::count_if(out.robots.begin(), out.robots.end(), [](const RobotDesc& o) { return !o.puck; });
-  if (r.name.empty()) r.name.append("r").append(std::to_string(robots));
+  if (r.name.empty()) r.name.append("r").append(std::to_string(robots_));
+  ++robots_;
   r.pose = c.pose;
   r.size = c.size;
   r.look = c.look;

@@ -95,6 +95,8 @@ bool Loader::run(WorldDesc& out) {
   const size_t errors_before = diags().error_count();
   const Entity& w = file_.root();
   read_.set_units(w);
+  robots_ =
+      size_t(std::count_if(out.robots.begin(), out.robots.end(), [](const RobotDesc& o) { return !o.puck; }));
   world_properties(w, out);
   std::map<std::string, world::SourceLoc> names;
   for (const Entity& e : w.children) {

@@ -79,7 +79,10 @@ class Loader {
 
   const world::WorldFile& file_;
   Reader read_;
-  int unnamed_robots_ = 0;
+  // Robots (not pucks) in the description so far: an unnamed robot is
+  // named r<this>. Counted as they come, since counting them again for
+  // each robot took most of a 100,000-robot world's load.
+  size_t robots_ = 0;
   int pucks_ = 0;  // unnamed pucks so far, for their default names
 };
 

@@ -30,7 +30,7 @@ TEST_F(ServedWorld, ListsEachRobotsDevicesBySensorName) {
                        "striker/position2d:0 robocup/odometry", "striker/actuator:0 robocup/kicker",
                        "striker/fiducial:0 robocup/omni", "striker/fiducial:1 robocup/front",
                        "striker/ranger:0 robocup/laser", "keeper/position2d:0 robocup/base",
-                       "keeper/actuator:0 robocup/kicker", "simulation:0 troupe-robocup"}));
+                       "keeper/actuator:0 robocup/kicker", "simulation:0 troupe-sim"}));
 }
 
 TEST_F(ServedWorld, DataCarriesTheSimulatedTimeOfItsMeasurement) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "host-sim/robocup/game/world_desc.h"
+#include "host-sim/sim/static_map.h"
 #include "host-sim/sim/world.h"
 #include "tests/robocup/sim_fixture.h"
 #include "tests/sim/camera_pixels.h"
@@ -83,6 +84,55 @@ TEST(StageSensors, AnOmniCameraOnARoboCupRobotSeesTheLinesTheBallAndAGoal) {
   sim->place_ball({-2, 2}, {});
   sim->step();
   EXPECT_EQ(at(engine.camera(blue1.cameras.first), 0, 2), colors.ball);
+}
+
+// The field's barrier and goals are static rigid bodies: the physics stops
+// robots at them, and the grid only shows them (obstacle_return 0). A
+// fiducial finder must not see a landmark through them any more than a
+// ranger's beam passes them.
+TEST(StageSensors, AFiducialFinderDoesNotSeeALandmarkBehindAGoalWall) {
+  WorldSpec spec;
+  std::string error;
+  ASSERT_TRUE(
+      test::world_from_text("robocup_field ( length 9 width 5 )\nreferee ( enabled 0 )\n", spec, error))
+      << error;
+  sim::WorldDesc desc = world_desc(spec);
+  // The blue goal's back wall stands at x = -(4.5 + 0.6 + 0.05 / 2) m; the
+  // barrier beyond it at -(5.5 + its thickness / 2).
+  auto robot = [](const std::string& name, double x, double y) {
+    sim::RobotDesc r;
+    r.name = name;
+    r.pose = {x, y, 0};
+    r.size = {0.2, 0.2};
+    r.polygons = {{{-0.1, -0.1}, {0.1, -0.1}, {0.1, 0.1}, {-0.1, 0.1}}};
+    return r;
+  };
+  sim::RobotDesc finder = robot("finder", -3, 0);
+  sim::FiducialDesc eye;
+  eye.range_max = 8;
+  eye.fov = 2 * kPi;
+  finder.fiducials.push_back(eye);
+  desc.robots.push_back(finder);
+  sim::RobotDesc hidden = robot("behind_goal", -5.3, 0);
+  hidden.look.fiducial_id = 7;
+  desc.robots.push_back(hidden);
+  sim::RobotDesc open = robot("in_the_open", -4, 1.8);
+  open.look.fiducial_id = 8;
+  desc.robots.push_back(open);
+  sim::World engine(desc, sim::Random(1));
+  const sim::RobotInfo& info = engine.robot(engine.robot_count() - 3);
+  ASSERT_EQ(info.name, "finder");
+  ASSERT_EQ(info.fiducials.count, 1u);
+  engine.set_wanted({sim::SensorKind::Fiducial, info.fiducials.first}, true);
+  engine.step();
+  const sim::FiducialView v = engine.fiducial(info.fiducials.first);
+  ASSERT_EQ(v.step, 1u);
+  ASSERT_EQ(v.readings.size(), 1u) << "the landmark behind the goal's back wall was seen through it";
+  EXPECT_EQ(v.readings[0].id, 8);
+  EXPECT_NEAR(v.readings[0].range, std::hypot(1.0, 1.8), 1e-9);
+  // A ranger's beam along the same line stops at the wall, before the landmark.
+  const float wall = engine.map().cast({-3, 0}, {-1, 0}, 8);
+  EXPECT_LT(wall, 2.3f);
 }
 
 TEST(StageSensors, ABadSensorValueIsAnErrorWithFileAndLine) {

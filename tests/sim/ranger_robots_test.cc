@@ -1,8 +1,9 @@
 // Rangers among many robots: the per-step robot layer (robot_layer.h), the
 // per-robot candidates and the plain test of every robot against every beam
 // give the same ranges and intensities, beam by beam and bit for bit, on
-// random packed crowds of moving robots of several shapes; and the ray-edge
-// test under all three gives what its plain formula gives.
+// random packed crowds of moving robots of several shapes (some with a
+// polygon inside another); and the ray-edge and ray-polygon tests under all
+// three give what their plain formulas give.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,6 +37,15 @@ WorldDesc packed_crowd(uint64_t seed, int n, double pitch) {
     const double side = 0.1 + 0.2 * u(rng);
     RobotDesc r = test::robot("r" + std::to_string(i), {x, y, (u(rng) - 0.5) * 2 * kPi}, side);
     if (u(rng) < 0.3) r.polygons = {{{-side / 2, -side / 2}, {side / 2, 0}, {-side / 2, side / 2}}};
+    if (u(rng) < 0.3) {
+      // A second polygon inside the first (as a laser's block sits inside
+      // a Pioneer's): rays from outside meet the outer one first.
+      if (r.polygons.empty())
+        r.polygons = {
+            {{-side / 2, -side / 2}, {side / 2, -side / 2}, {side / 2, side / 2}, {-side / 2, side / 2}}};
+      const double c = -side / 8, h = side / 16;
+      r.polygons.push_back({{c - h, -h}, {c + h, -h}, {c + h, h}, {c - h, h}});
+    }
     r.look.ranger_return = u(rng) < 0.1 ? -1 : (u(rng) < 0.5 ? 0.25 : 0.5);
     if (u(rng) < 0.7) {
       RangerDesc ring;
@@ -169,6 +179,59 @@ TEST(RaySegment, SkippingTheDivisionsChangesNoResult) {
     ++n;
     hits += want >= 0;
     ASSERT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "case " << i << ": " << got << " against " << want;
+  }
+  EXPECT_GT(hits, n / 10);  // both outcomes are exercised
+  EXPECT_LT(hits, n * 9 / 10);
+}
+
+// ray_polygon skips the edges whose ends lie clearly on one side of the
+// ray's line; it must give what testing every edge gives, to the bit, also
+// for rays through a vertex, along an edge or from a vertex.
+double ray_polygon_every_edge(Vec2 o, Vec2 d, const std::vector<Vec2>& poly) {
+  double best = -1;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const double t = ray_segment_plain(o, d, poly[i], poly[(i + 1) % poly.size()]);
+    if (t >= 0 && (best < 0 || t < best)) best = t;
+  }
+  return best;
+}
+
+TEST(RayPolygon, SkippingEdgesOnOneSideChangesNoResult) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1), ang(-kPi, kPi);
+  size_t hits = 0, n = 0;
+  for (int i = 0; i < 100000; ++i) {
+    // A star-shaped polygon of 3 to 9 vertices about the origin, 0.05 to
+    // 0.5 m out (convex or not), seen from up to 8 m away.
+    std::vector<Vec2> poly;
+    const int count = 3 + int(rng() % 7);
+    const double a0 = ang(rng);
+    for (int k = 0; k < count; ++k) {
+      const double a = a0 + 2 * kPi * (k + 0.4 * u(rng)) / count, r = 0.275 + 0.225 * u(rng);
+      poly.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    Vec2 o{8 * u(rng), 8 * u(rng)};
+    double heading = ang(rng);
+    const Vec2 v = poly[rng() % poly.size()], w = poly[(rng() % poly.size())];
+    // Rays aimed at a vertex, along an edge's line, from a vertex, or anywhere.
+    if (i % 4 == 0) heading = std::atan2(v.y - o.y, v.x - o.x);
+    if (i % 4 == 1 && !(v.x == w.x && v.y == w.y)) {
+      o = v + 2 * (v - w);
+      heading = std::atan2(w.y - v.y, w.x - v.x);
+    }
+    if (i % 4 == 2) o = v;
+    const Vec2 d{std::cos(heading), std::sin(heading)};
+    // Also with the vertices less the origin given, as the candidates' way
+    // gives them for all the beams from one origin.
+    std::vector<Vec2> rel;
+    for (Vec2 p : poly) rel.push_back(p - o);
+    const double want = ray_polygon_every_edge(o, d, poly), got = ray_polygon(o, d, poly),
+                 got_rel = ray_polygon(o, d, poly, rel.data());
+    ++n;
+    hits += want >= 0;
+    ASSERT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "case " << i << ": " << got << " against " << want;
+    ASSERT_EQ(std::memcmp(&want, &got_rel, sizeof want), 0)
+        << "case " << i << ": " << got_rel << " against " << want;
   }
   EXPECT_GT(hits, n / 10);  // both outcomes are exercised
   EXPECT_LT(hits, n * 9 / 10);

@@ -63,7 +63,7 @@ bool RobocupServer::setup(Node& node, const DriverSetup&, std::string& error) {
       }
     }
   }
-  add(node, Kind::Simulation, 0, -1, wire::Interface::Simulation, 0, "troupe-robocup");
+  add(node, Kind::Simulation, 0, -1, wire::Interface::Simulation, 0, "troupe-sim");
   for (const Device& d : devices_) {
     if (d.id == kNoDevice) {
       error = "two devices with one address";

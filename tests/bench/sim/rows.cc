@@ -1,5 +1,8 @@
 #include "tests/bench/sim/rows.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -118,6 +121,13 @@ std::string wandering_smallbots(const std::vector<sim::Pose>& poses) {
   return text;
 }
 
+// Writes a world's text as `dir`/`name`; its path.
+std::string write_text(const std::string& dir, const char* name, const std::string& text) {
+  const std::string path = (std::filesystem::path(dir) / name).string();
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
 // The cave of simple.world with `n` Pioneers (laser and sonars) wandering.
 std::string cave_world(const Scratch& dir, int n) {
   world::GrayImage cave;
@@ -195,10 +205,7 @@ std::string write_campus(const std::string& dir, std::string& err) {
   text +=
       "model ( name \"campus\" size [1000 700 1] color \"gray30\" obstacle_return 1 bitmap \"campus.png\" "
       ")\n";
-  text += wandering_smallbots(poses);
-  const std::string path = (std::filesystem::path(dir) / "campus.world").string();
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
+  return write_text(dir, "campus.world", text + wandering_smallbots(poses));
 }
 
 bool row_campus(const Settings& s, Summary& out) {
@@ -223,6 +230,71 @@ bool row_campus(const Settings& s, Summary& out) {
       map.sparse() ? "sparse" : "dense", out.load_s, cpu_s() - c0, w->memory_bytes() / 1e6,
       map.memory_bytes() / 1e6);
   run_chunks(*w, host, int(200 * s.scale), s, out);
+  return true;
+}
+
+std::string write_scale_world(const std::string& dir, int robots, std::string& err) {
+  // The scale row's world, written out: 8.4 m^2 of office per robot (so
+  // the map grows with the swarm), 7:3 wide, the ring robots wandering. The
+  // loader reads bitmaps of at most 2^28 pixels, so the office is drawn at
+  // 0.1 m a pixel (its 0.1 m walls a pixel thick) and the model's size
+  // scales it onto the world's 0.05 m cells.
+  constexpr double kPx = 0.1;  // m per bitmap pixel
+  const double area = 8.4 * robots, width = std::sqrt(area * 7 / 3), height = area / width;
+  std::vector<sim::Pose> poses;
+  {
+    const world::GrayImage map = office(width, height, kPx, 5);
+    const std::string png = (std::filesystem::path(dir) / "office.png").string();
+    if (!world::write_png(png, map, err)) return "";
+    poses = place(map, kPx, size_t(robots), 0.3, 0.8, 9);
+  }
+  char head[256];
+  std::snprintf(head, sizeof head,
+                "# %d robots, 8.4 m^2 of office each: sim_bench's scale rows as a world file, written by\n"
+                "# sim_bench --write-scale DIR.\nresolution 0.05\ninterval_sim 100\n",
+                robots);
+  std::string text = head + ring_robot_define();
+  char floor[160];
+  std::snprintf(floor, sizeof floor,
+                "model ( name \"office\" size [%.3f %.3f 1] color \"gray30\" bitmap \"office.png\" )\n",
+                width, height);
+  return write_text(dir, "office.world", text + floor + wandering_smallbots(poses));
+}
+
+bool row_scale100k(const Settings& s, Summary& out) {
+  out = {"scale 100000", "100,000 robots, 12-beam 2 m rangers, 0.05 m office (1,400 x 600 m)", 0, 0, 0, 0, 1};
+  Scratch dir;
+  // Written by a child process, so this one's peak memory is the
+  // simulation's, not the bitmap's and the placement's.
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::string err;
+    const bool ok = !write_scale_world(dir.path(""), 100000, err).empty();
+    if (!ok) std::printf("scale100k: %s\n", err.c_str());
+    std::fflush(stdout);
+    _exit(ok ? 0 : 1);
+  }
+  int status = 1;
+  if (pid < 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    return false;
+  const double c0 = cpu_s(), t0 = wall_s();
+  ControllerHost host;
+  auto w = load(dir.path("office.world"), host, s.storage);
+  if (!w) return false;
+  out.load_s = wall_s() - t0;
+  const sim::StaticMap& map = w->map();
+  std::printf(
+      "== scale100k: %zu robots; %d x %d cells (%.0f million), %s; loaded in %.1f s (%.1f CPU s); engine "
+      "holds "
+      "%.0f MB, the map %.0f MB\n",
+      w->robot_count(), map.width(), map.height(), double(map.width()) * map.height() * 1e-6,
+      map.sparse() ? "sparse" : "dense", out.load_s, cpu_s() - c0, w->memory_bytes() / 1e6,
+      map.memory_bytes() / 1e6);
+  // 10 steps a chunk, as the scale row's 10,000 robots.
+  Settings chunks = s;
+  chunks.baseline = false;  // the per-cell walk would take minutes here
+  run_chunks(*w, host, 10, chunks, out);
   return true;
 }
 

@@ -34,9 +34,15 @@ bool row_cave(const Settings& s, Summary& out);
 bool row_scale(const Settings& s, Summary& out);
 bool row_rays(const Settings& s, Summary& out);
 bool row_campus(const Settings& s, Summary& out);
+bool row_scale100k(const Settings& s, Summary& out);
 
 /// Writes the campus row's world (campus.world and its bitmap campus.png)
 /// into `dir`; its path, or "" with `err` set.
 std::string write_campus(const std::string& dir, std::string& err);
+
+/// Writes the scale rows' world for `robots` robots (office.world and its
+/// bitmap office.png) into `dir`: the same density (8.4 m^2 of office per
+/// robot), robots and sensors as the scale row. Its path, or "" with `err`.
+std::string write_scale_world(const std::string& dir, int robots, std::string& err);
 
 }  // namespace troupe::bench
