@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 # only the first list: its build leaves the tests out).
 BUILD_PACKAGES=(cmake ninja-build g++ libflatbuffers-dev flatbuffers-compiler
   libeigen3-dev libpng-dev zlib1g-dev libserial-dev libboost-dev libcli11-dev
-  cyclonedds-dev cyclonedds-tools libsodium-dev)
+  cyclonedds-dev cyclonedds-tools libsodium-dev libopenmpi-dev openmpi-bin)
 TEST_PACKAGES=(libgtest-dev pkgconf clang-14 libclang-rt-14-dev
   qemu-system-x86 busybox-static cpio iproute2
   g++-arm-linux-gnueabihf g++-aarch64-linux-gnu g++-powerpc-linux-gnu qemu-user systemd

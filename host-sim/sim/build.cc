@@ -105,10 +105,8 @@ void Engine::build() {
 
 void Engine::build_statics() {
   Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
-  std::vector<Pose> frames;
   for (const StaticDesc& s : desc.statics) {
     Pose frame = compose(s.pose, s.origin);
-    frames.push_back(frame);
     Vec2 slo{1e300, 1e300}, shi{-1e300, -1e300};
     for (Vec2 c : rect(-s.size.x / 2, -s.size.y / 2, s.size.x / 2, s.size.y / 2))
       grow(slo, shi, transform(frame, c));
@@ -124,10 +122,27 @@ void Engine::build_statics() {
     lo = {-res, -res};
     hi = {res, res};
   }
-  map.reset(lo - Vec2{2 * res, 2 * res}, hi + Vec2{2 * res, 2 * res}, res, desc.map_storage);
+  map_lo = lo - Vec2{2 * res, 2 * res};
+  map_hi = hi + Vec2{2 * res, 2 * res};
+  build_map(nullptr);
+}
+
+void Engine::build_map(const Vec2* window) {
+  const double res = desc.resolution;
+  MapStorage storage = desc.map_storage;
+  if (window) {
+    // A map that reads its coarse level reads the same steps sparse; a
+    // smaller one is held whole (a few MB), since a sparse map would read
+    // steps it does not, and rays must not change by a bit.
+    const double cells = std::ceil((map_hi.x - map_lo.x) / res) * std::ceil((map_hi.y - map_lo.y) / res);
+    if (cells < double(StaticMap::kCoarseFromCells)) window = nullptr;
+    else storage = MapStorage::Sparse;
+  }
+  map.reset(map_lo, map_hi, res, storage);
+  if (window) map.set_window(window[0], window[1]);
   for (size_t k = 0; k < desc.statics.size(); ++k) {
     const StaticDesc& s = desc.statics[k];
-    const Pose& frame = frames[k];
+    const Pose frame = compose(s.pose, s.origin);
     const bool obstacle = s.look.obstacle, visible = s.look.ranger_return >= 0;
     for (const auto& poly : s.polygons) {
       std::vector<Vec2> w(poly.size());
@@ -145,6 +160,17 @@ void Engine::build_statics() {
     }
   }
   map.finish();
+}
+
+bool World::keep_map_within(Vec2 lo, Vec2 hi) {
+  Engine& e = *e_;
+  // The distance field saturates at 253 cells, a coarse block adds one
+  // block: cells farther than that from the window do not change a code
+  // within it, so rays and collisions inside read what the whole map holds.
+  const double margin = (256 + StaticMap::kTile) * e.desc.resolution;
+  const Vec2 window[2] = {lo - Vec2{margin, margin}, hi + Vec2{margin, margin}};
+  e.build_map(window);
+  return e.map.sparse();
 }
 
 void Engine::build_robot(const RobotDesc& r) {

@@ -36,6 +36,12 @@ void Engine::broadphase() {
     hash_radii[i] = b.radius + half;
     hash_flags[i] = (b.ranger_visible ? kHashRangerVisible : 0u) | (b.obstacle ? kHashObstacle : 0u);
   }
+  // Robots another process owns and none of ours can reach stay out.
+  if (!residence.empty()) {
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      if (residence[i] == kAbsent) hash_radii[i] = -1;
+    }
+  }
   hash.build(hash_centres, hash_radii, hash_flags);
 }
 
@@ -91,7 +97,7 @@ void Engine::collide() {
   for (RobotId i = 0; i < n; ++i) {
     const Body& b = bodies[i];
     accept[i] = 1;
-    if (!b.moved) continue;
+    if (!b.moved || !owns(i)) continue;
     bool blocked = hits_static(i, b.pose, b.proposed);
     if (!blocked && b.obstacle) {
       // Its own outline at the proposed pose is computed once, for the
@@ -112,6 +118,7 @@ void Engine::collide() {
 
 void Engine::take_accepted_moves() {
   for (RobotId i = 0; i < bodies.size(); ++i) {
+    if (!owns(i)) continue;  // a ghost ends its move where its owner says
     Body& b = bodies[i];
     if (!b.moved) {
       b.stalled = false;

@@ -147,7 +147,8 @@ void ControllerHost::update(World& world) {
   }
   PhaseTimer timer(world.profile(), phase_);
   for (Entry& e : entries_) {
-    if (!e.controller) continue;
+    // Another process steps a robot this one does not own (host-sim/mpi).
+    if (!e.controller || world.residence(e.robot) != World::Residence::Owned) continue;
     WorldRobot handle(world, e.robot);
     try {
       e.controller->update(handle);

@@ -158,6 +158,10 @@ struct Engine {
   // build.cc
   void build();
   void build_statics();
+  /// Rasterizes the statics into `map` over [map_lo, map_hi]; with a
+  /// window (lo, hi: two points), only the cells within it
+  /// (World::keep_map_within).
+  void build_map(const Vec2* window);
   void build_robot(const RobotDesc& r);
   void start_robot(RobotId i);
 
@@ -254,12 +258,17 @@ struct Engine {
 
   /// The wanted sensors, each kind timed into its phase.
   void update_sensors(PhaseLaps& laps);
+  /// World::step() and step(StepExchange&): `exchange` may be null.
+  void step(World& world, World::StepExchange* exchange);
+  /// This process steps robot i (World::Residence::Owned).
+  bool owns(RobotId i) const { return residence.empty() || residence[i] == kOwned; }
   void publish_states();
   void outline(RobotId i, const Pose& at, std::vector<Vec2>& verts, std::vector<PolyRef>& polys) const;
 
   WorldDesc desc;
   Random random;
   StaticMap map;
+  Vec2 map_lo, map_hi;  // the whole map's grid, world frame, m
   SpatialHash hash;
   Profile profile;
   size_t ph_control, ph_integrate, ph_broadphase, ph_collide, ph_grippers, ph_odometry, ph_rangers,
@@ -301,6 +310,13 @@ struct Engine {
   /// them for any scalar type (asserted in world.cc), so a controller may
   /// keep any trivially copyable struct there.
   std::vector<std::vector<std::byte>> controller_memory;
+  /// World::Residence per robot, as bytes; empty while the world is not
+  /// divided (every robot owned), so an undivided step reads nothing more.
+  std::vector<uint8_t> residence;
+  /// World::set_journal(): where inputs are recorded, or nullptr.
+  std::vector<std::byte>* journal = nullptr;
+  static constexpr uint8_t kOwned = uint8_t(World::Residence::Owned);
+  static constexpr uint8_t kAbsent = uint8_t(World::Residence::Absent);
 
   // Scratch, reused every step so the step does not allocate.
   std::vector<Vec2> hash_centres;

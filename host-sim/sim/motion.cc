@@ -49,6 +49,7 @@ Pose goto_velocity(const Pose& goal, const Odometry& o, Drive drive) {
 void Engine::control() {
   const double dt = desc.interval_sim;
   for (size_t i = 0; i < bodies.size(); ++i) {
+    if (!owns(RobotId(i))) continue;
     Body& b = bodies[i];
     const Kinematics& k = kinematics[i];
     Pose target;
@@ -86,7 +87,9 @@ void Engine::control() {
 
 void Engine::integrate() {
   const double dt = desc.interval_sim;
-  for (Body& b : bodies) integrate_body(b, dt);
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    if (owns(RobotId(i))) integrate_body(bodies[i], dt);
+  }
 }
 
 void Engine::integrate_body(Body& b, double dt) {
@@ -116,6 +119,7 @@ void Engine::integrate_body(Body& b, double dt) {
 void Engine::odometry() {
   const double dt = desc.interval_sim;
   for (size_t i = 0; i < bodies.size(); ++i) {
+    if (!owns(RobotId(i))) continue;
     Body& b = bodies[i];
     Odometry& o = odom[i];
     if (kinematics[i].localization == Localization::Gps) {

@@ -48,6 +48,9 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage) {
   origin_ = lo;
   w_ = std::max(1, int(std::ceil((hi.x - lo.x) * inv_res_)));
   h_ = std::max(1, int(std::ceil((hi.y - lo.y) * inv_res_)));
+  wx0_ = wy0_ = 0;
+  wx1_ = w_ - 1;
+  wy1_ = h_ - 1;
   // Whole blocks (the cells past the grid's edges stay free and are never
   // reached), and four bytes more: the vector caster reads a cell as the
   // low byte of a 32-bit load.
@@ -97,10 +100,10 @@ void StaticMap::fill_box(Vec2 lo, Vec2 hi, bool obstacle, bool visible) {
   // A box thinner than a cell still marks the cell it lies in.
   if (ix1 < ix0) ix0 = ix1 = int(std::floor(0.5 * (x0 + x1)));
   if (iy1 < iy0) iy0 = iy1 = int(std::floor(0.5 * (y0 + y1)));
-  ix0 = std::max(ix0, 0);
-  iy0 = std::max(iy0, 0);
-  ix1 = std::min(ix1, w_ - 1);
-  iy1 = std::min(iy1, h_ - 1);
+  ix0 = std::max(ix0, wx0_);
+  iy0 = std::max(iy0, wy0_);
+  ix1 = std::min(ix1, wx1_);
+  iy1 = std::min(iy1, wy1_);
   const uint8_t add = uint8_t((obstacle ? 1 : 0) | (visible ? 2 : 0));
   if (sparse()) return fill_box_sparse(ix0, iy0, ix1, iy1, add);
   for (int iy = iy0; iy <= iy1; ++iy) {
@@ -121,15 +124,15 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
     ymax = std::max(ymax, c[i].y);
   }
   auto mark_span = [&](int iy, double xa, double xb) {
-    int ix0 = std::max(0, int(std::floor(xa + kEdgeSlack)));
+    int ix0 = std::max(wx0_, int(std::floor(xa + kEdgeSlack)));
     int ix1 =
-        std::min(w_ - 1, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
+        std::min(wx1_, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
     for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
   };
-  int row0 = std::max(0, int(std::floor(ymin + kEdgeSlack)));
-  int row1 = std::min(h_ - 1, int(std::ceil(ymax - kEdgeSlack)) - 1);
+  int row0 = std::max(wy0_, int(std::floor(ymin + kEdgeSlack)));
+  int row1 = std::min(wy1_, int(std::ceil(ymax - kEdgeSlack)) - 1);
   const bool flat = ymax - ymin < 2 * kEdgeSlack;  // a line along x, or a point
-  if (row1 < row0 && ymin >= 0 && ymin < h_) row0 = row1 = int(std::floor(ymin));
+  if (row1 < row0 && ymin >= wy0_ && ymin < wy1_ + 1) row0 = row1 = int(std::floor(ymin));
   std::vector<double> xs;
   for (int iy = row0; iy <= row1; ++iy) {
     const double y0 = iy + kEdgeSlack, y1 = iy + 1 - kEdgeSlack;
@@ -157,8 +160,8 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
     }
     std::sort(xs.begin(), xs.end());
     for (size_t k = 0; k + 1 < xs.size(); k += 2) {
-      int ix0 = std::max(0, int(std::ceil(xs[k] - 0.5)));
-      int ix1 = std::min(w_ - 1, int(std::floor(xs[k + 1] - 0.5)));
+      int ix0 = std::max(wx0_, int(std::ceil(xs[k] - 0.5)));
+      int ix1 = std::min(wx1_, int(std::floor(xs[k + 1] - 0.5)));
       for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
     }
   }
@@ -176,6 +179,14 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
       for (int bx = bx0; bx <= bx1; ++bx) release_if_uniform(size_t(by) * size_t(blocks_w_) + size_t(bx));
     }
   }
+}
+
+void StaticMap::set_window(Vec2 lo, Vec2 hi) {
+  auto cell = [](double v, double o, double inv) { return std::floor((v - o) * inv); };
+  wx0_ = int(std::clamp(cell(lo.x, origin_.x, inv_res_), 0.0, double(w_ - 1)));
+  wy0_ = int(std::clamp(cell(lo.y, origin_.y, inv_res_), 0.0, double(h_ - 1)));
+  wx1_ = int(std::clamp(cell(hi.x, origin_.x, inv_res_), double(wx0_), double(w_ - 1)));
+  wy1_ = int(std::clamp(cell(hi.y, origin_.y, inv_res_), double(wy0_), double(h_ - 1)));
 }
 
 void StaticMap::finish() {

@@ -64,6 +64,11 @@ class StaticMap {
   /// dense map's cells are found by 32-bit offsets). At most kMaxCells.
   void reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage = MapStorage::Auto);
 
+  /// Fills only the cells within [lo, hi] (world frame, m) from here on,
+  /// on the same grid: a process of a divided world holds its own region
+  /// of a large map (a sparse map stores no block the fills leave empty).
+  void set_window(Vec2 lo, Vec2 hi);
+
   /// Marks the cells a polygon (world frame) overlaps. `obstacle` and
   /// `visible` say what it is; overlapping marks combine.
   void fill_polygon(std::span<const Vec2> polygon, bool obstacle, bool visible);
@@ -172,6 +177,9 @@ class StaticMap {
   int w_ = 0, h_ = 0;
   double res_ = 0.02, inv_res_ = 50;
   Vec2 origin_;
+  // The cells fills may mark (set_window), inclusive: the whole grid
+  // unless told otherwise.
+  int wx0_ = 0, wy0_ = 0, wx1_ = 0, wy1_ = 0;
   std::vector<uint8_t, HugePageAllocator<uint8_t>> codes_;
   // The coarse level: per kTile x kTile block of cells, the smallest code
   // in it (an occupied code when the block holds an obstacle). Its march

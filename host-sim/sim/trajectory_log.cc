@@ -21,10 +21,16 @@ bool TrajectoryLog::open(const std::string& path, std::string& error) {
 }
 
 std::string TrajectoryLog::format(const World& world) {
+  std::vector<Pose> poses(world.robot_count());
+  for (RobotId i = 0; i < world.robot_count(); ++i) poses[i] = world.state(i).pose;
+  return format(world, poses);
+}
+
+std::string TrajectoryLog::format(const World& world, std::span<const Pose> poses) {
   std::string out;
   char line[256];
-  for (RobotId i = 0; i < world.robot_count(); ++i) {
-    const Pose& p = world.state(i).pose;
+  for (RobotId i = 0; i < world.robot_count() && i < poses.size(); ++i) {
+    const Pose& p = poses[i];
     std::snprintf(line, sizeof line, "%.3f,%s,%.6f,%.6f,%.6f\n", world.time(), world.robot(i).name.c_str(),
                   p.x, p.y, p.a);
     out += line;
@@ -34,7 +40,15 @@ std::string TrajectoryLog::format(const World& world) {
 
 void TrajectoryLog::record(const World& world) {
   if (file_ == nullptr) return;
-  const std::string lines = format(world);
+  write(format(world));
+}
+
+void TrajectoryLog::record(const World& world, std::span<const Pose> poses) {
+  if (file_ == nullptr) return;
+  write(format(world, poses));
+}
+
+void TrajectoryLog::write(const std::string& lines) {
   if (std::fwrite(lines.data(), 1, lines.size(), file_) != lines.size()) failed_ = true;
 }
 

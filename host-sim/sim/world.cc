@@ -6,6 +6,7 @@
 #include <string>
 
 #include "host-sim/sim/engine.h"
+#include "host-sim/sim/journal.h"
 #include "host-sim/sim/loader.h"
 
 namespace troupe::sim {
@@ -45,7 +46,15 @@ void Engine::update_sensors(PhaseLaps& laps) {
 }
 
 void World::step() {
-  Engine& e = *e_;
+  e_->step(*this, nullptr);
+}
+
+void World::step(StepExchange& exchange) {
+  e_->step(*this, &exchange);
+}
+
+void Engine::step(World& world, World::StepExchange* exchange) {
+  Engine& e = *this;
   PhaseLaps laps(e.profile);
   e.control();
   laps.lap(e.ph_control);
@@ -56,6 +65,7 @@ void World::step() {
     e.integrate();
   }
   laps.lap(e.ph_integrate);
+  if (exchange) exchange->proposed(world);
   e.broadphase();
   laps.lap(e.ph_broadphase);
   if (e.rigid) {
@@ -74,6 +84,10 @@ void World::step() {
   ++e.steps;
   // From the step count, so the clock does not drift by summing.
   e.time = double(e.steps) * e.desc.interval_sim;
+  if (exchange) {
+    exchange->moved(world);
+    e.publish_states();
+  }
   e.update_sensors(laps);
   e.profile.count_step();
 }
@@ -173,6 +187,7 @@ bool World::set_pose(RobotId id, const Pose& pose) {
   if (e.rigid) e.sync_rigid(id);
   e.publish_states();
   e.broadphase();
+  if (e.journal) journal_pose(*e.journal, Input::Teleport, id, pose);
   return true;
 }
 
@@ -180,6 +195,7 @@ bool World::command(RobotId id, const Command& cmd) {
   Body& b = e_->bodies.at(id);
   if (!finite_pose(cmd.value)) return false;
   b.cmd = cmd;
+  if (e_->journal) journal_pose(*e_->journal, cmd.mode == CommandMode::Goto ? Input::Goto : Input::Velocity, id, cmd.value);
   return true;
 }
 
@@ -194,6 +210,7 @@ bool World::set_odometry(RobotId id, const Pose& pose) {
   const double c = std::cos(a), s = std::sin(a);
   o.origin = {p.x - (c * pose.x - s * pose.y), p.y - (s * pose.x + c * pose.y), a};
   e.publish_states();
+  if (e.journal) journal_pose(*e.journal, Input::Odometry, id, pose);
   return true;
 }
 
@@ -204,6 +221,7 @@ PowerView World::power(RobotId id) const {
 
 void World::set_wanted(SensorRef s, bool wanted) {
   Engine& e = *e_;
+  if (e.journal && this->wanted(s) != wanted) journal_wanted(*e.journal, s, wanted);
   switch (s.kind) {
     case SensorKind::Ranger:
       e.rangers.at(s.index).wanted = wanted;
@@ -380,6 +398,7 @@ bool World::set_camera_size(uint32_t index, int width, int height) {
   CameraDesc& d = e_->desc.robots[r].cameras[index - e_->info[r].cameras.first];
   d.width = width;
   d.height = height;
+  if (e_->journal) journal_camera_size(*e_->journal, index, width, height);
   return true;
 }
 
@@ -398,6 +417,7 @@ GripperView World::gripper(uint32_t index) const {
 
 void World::set_gripper(uint32_t index, bool closed) {
   e_->grippers.at(index).want_closed = closed;
+  if (e_->journal) journal_gripper(*e_->journal, index, closed);
 }
 
 }  // namespace troupe::sim

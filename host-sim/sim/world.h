@@ -19,6 +19,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "host-sim/sim/desc.h"
 #include "host-sim/sim/profile.h"
@@ -294,6 +295,77 @@ class World {
   /// for any scalar type.
   std::span<std::byte> controller_memory(RobotId id);
   std::span<const std::byte> controller_memory(RobotId id) const;
+
+  // ---- Divided between processes (host-sim/mpi) ------------------------------
+
+  /// Under MPI every process holds the whole world's description but steps
+  /// only the robots it owns. A ghost is another process's robot near
+  /// enough to meet or be sensed by one of its own: its motion is copied in
+  /// twice a step (StepExchange), never computed here. The rest are absent:
+  /// nothing here reads them. A world nobody divides owns every robot.
+  enum class Residence : uint8_t { Owned, Ghost, Absent };
+  void set_residence(RobotId id, Residence residence);
+  Residence residence(RobotId id) const;
+  /// True when the world can be divided; otherwise `why` says what stops
+  /// it (grippers carry pucks from robot to robot; rigid bodies push each
+  /// other in one physics world).
+  bool divisible(std::string& why) const;
+  /// The farthest, m, a robot's centre can be from the centre of another
+  /// robot it may meet or sense in one step: its largest sensor reach,
+  /// both robots' radii, and both robots' largest move in a step. Ghosts
+  /// are the robots within this of a process's region.
+  double interaction_reach() const;
+
+  /// A ghost's motion in one step: where it is, where it asks to go (pose,
+  /// proposed: world frame, m, m, rad) and whether it moves at all.
+  struct GhostMotion {
+    Pose pose;
+    Pose proposed;
+    bool moved = false;
+  };
+  GhostMotion ghost_motion(RobotId id) const;
+  void set_ghost_motion(RobotId id, const GhostMotion& motion);
+
+  /// Called by step(StepExchange&) between its phases.
+  class StepExchange {
+   public:
+    virtual ~StepExchange() = default;
+    /// Owned robots' proposed moves are known; ghosts' must be set
+    /// (set_ghost_motion, and set_residence for robots coming and going)
+    /// before collisions are judged.
+    virtual void proposed(World& world) = 0;
+    /// Owned robots have ended their move; ghosts' must be set to where
+    /// theirs ended (proposed = pose) before sensors are computed.
+    virtual void moved(World& world) = 0;
+  };
+  /// step() for a divided world: the same phases, with the exchange.
+  void step(StepExchange& exchange);
+
+  /// Holds only the part of the static map within [lo, hi] (world frame,
+  /// m) and as far around it as the distance field reaches, for a process
+  /// that steps robots there alone: rays, collisions and sensors there
+  /// read what the whole map holds, while memory falls with the window.
+  /// The grid, its origin and size stay the whole map's. False when the
+  /// map is small enough to be kept whole (it reads no coarse level).
+  bool keep_map_within(Vec2 lo, Vec2 hi);
+
+  /// Appends everything of robot `id` that changes as it runs (pose,
+  /// velocity, command, odometry and its error, battery, its sensors' last
+  /// readings and wanted flags, its controller memory) to `out`, for the
+  /// process it migrates to.
+  void save_robot(RobotId id, std::vector<std::byte>& out) const;
+  /// Reads what save_robot() wrote for the same robot of the same world;
+  /// false, and `in` left where the error was, when the bytes do not fit.
+  bool restore_robot(RobotId id, std::span<const std::byte>& in);
+
+  /// While `journal` is set, every input the world takes (command,
+  /// set_pose, set_odometry, set_wanted, set_gripper, set_camera_size) is
+  /// also appended to it, so the process serving clients can hand them to
+  /// the processes that own the robots. nullptr stops it.
+  void set_journal(std::vector<std::byte>* journal);
+  /// Takes the inputs a journal holds, in their order (none is journaled
+  /// again). False at the first record that is not one.
+  bool replay(std::span<const std::byte> journal);
 
   // ---- Inspection ------------------------------------------------------------
 

@@ -14,11 +14,32 @@
 #include "runtime/secure_file.h"
 #include "runtime/stop_signals.h"
 
+#ifdef TROUPE_HAVE_MPI
+#include "host-sim/mpi/divided_world.h"
+#endif
+
 int main(int argc, char** argv) {
+  // Started by mpirun: this process steps its share of a world divided
+  // between all of them (host-sim/mpi). Otherwise the whole world, as ever.
+  troupe::sim::Division* division = nullptr;
+#ifdef TROUPE_HAVE_MPI
+  std::unique_ptr<troupe::sim::mpi::Comm> comm;
+  std::unique_ptr<troupe::sim::mpi::DividedWorld> divided;
+  if (troupe::sim::mpi::Comm::launched()) comm = std::make_unique<troupe::sim::mpi::Comm>(&argc, &argv);
+#endif
   troupe::sim::SimOptions options;
   if (int rc = troupe::sim::parse_sim_options(argc, argv, options); rc >= 0) return rc;
   troupe::set_log_program(options.program.c_str());
   const char* program = options.program.c_str();
+#ifdef TROUPE_HAVE_MPI
+  if (comm) {
+    divided = std::make_unique<troupe::sim::mpi::DividedWorld>(
+        *comm, troupe::sim::mpi::DividedWorld::Options{options.rebalance_every});
+    division = divided.get();
+    // One voice: the other processes say only what goes wrong.
+    if (comm->rank() != 0) troupe::set_log_level(troupe::LogLevel::Warn);
+  }
+#endif
   std::string error;
   if (!options.secure_file.empty() &&
       !troupe::load_secure_sessions(options.secure_file, options.secure, error)) {
@@ -91,6 +112,10 @@ int main(int argc, char** argv) {
   };
 
   if (troupe::sim::is_robocup_world(options.world)) {
+    if (division) {
+      std::fprintf(stderr, "%s: a RoboCup match runs in one process; start it without mpirun\n", program);
+      return 1;
+    }
     troupe::sim::RobocupMode match;
     if (!match.init(options, error)) {
       std::fprintf(stderr, "%s: %s\n", program, error.c_str());
@@ -115,14 +140,20 @@ int main(int argc, char** argv) {
 
   troupe::sim::Runner runner;
   troupe::world::Diagnostics diags;
-  const bool ok = runner.init(options, diags, error);
-  // Warnings (unknown keys, ...) and errors, each with file:line.
-  for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
+  const bool ok = runner.init(options, diags, error, division);
+  // Warnings (unknown keys, ...) and errors, each with file:line: once,
+  // when every process of a divided run read the same file.
+  if (!division || division->first()) {
+    for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
+  }
   if (!ok) {
     if (!error.empty()) std::fprintf(stderr, "%s: %s\n", program, error.c_str());
     return 1;
   }
   troupe::StopOnSignal stop_on_signal(runner.node().loop(), [&runner] { runner.request_stop(); });
+  // A divided run's other processes follow the leader, which alone
+  // serves, prints and draws.
+  if (division && !division->first()) return runner.run();
   const troupe::sim::World& w = runner.world();
   size_t controlled = 0;
   // --no-ctrl leaves every robot to the wire, whatever the world file names.
@@ -150,6 +181,9 @@ int main(int argc, char** argv) {
     troupe::log_info("ARIA programs connect to robot %s with -remoteHost %s -remoteRobotTcpPort %u",
                      w.robot(0).name.c_str(), options.listen.c_str(), unsigned(runner.p2os_tcp().port(0)));
   }
-  if (!start_viewer(runner.port())) return 1;
+  if (!start_viewer(runner.port())) {
+    runner.release_followers();
+    return 1;
+  }
   return runner.run();
 }

@@ -140,6 +140,10 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                 "load anyway; robots whose controller is missing stay idle");
   app->add_flag("--no-ctrl", out.no_ctrl, "run no controllers: every robot waits for clients");
   app->add_flag("--profile", out.profile, "print the time spent in each phase of the step at the end");
+  app->add_option("--rebalance-every", out.rebalance_every,
+                  "under mpirun: redraw the processes' regions every N steps (0: never)")
+      ->type_name("N")
+      ->group("Divided between processes (mpirun -np N troupe-sim ...)");
 
   cli::add_log_level(*app);
 

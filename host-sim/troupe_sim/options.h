@@ -72,6 +72,9 @@ struct SimOptions {
   /// Run no in-process controllers (the robots are driven over the wire).
   bool no_ctrl = false;
   bool profile = false;  // print the time per phase at the end
+  /// Under mpirun: steps between redrawing the processes' regions around
+  /// where the robots are (0: never).
+  uint64_t rebalance_every = 100;
   /// RoboCup worlds: console commands (robocup/game/console.h) from this
   /// file, or from standard input when `interactive`, run between cycles.
   /// The commands then decide how far the match runs, flat out, unserved.

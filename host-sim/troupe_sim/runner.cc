@@ -46,8 +46,20 @@ Runner::~Runner() {
   for (auto& n : nodes_) n->shutdown();
 }
 
-bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error) {
+bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
+                  Division* division) {
   options_ = options;
+  if (division) {
+    // Devices presented as hardware live beside their robot's process.
+    const char* refused = !options.emulate.empty()     ? "--emulate"
+                          : options.p2os_tcp_port >= 0 ? "--p2os-tcp"
+                          : options.port_per_robot     ? "--port-per-robot"
+                                                       : nullptr;
+    if (refused) {
+      error = std::string("under mpirun troupe-sim does not do ") + refused + " yet";
+      return false;
+    }
+  }
   world_ = World::load(options.world, options.seed, diags);
   if (!world_) return false;
 
@@ -71,6 +83,8 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
 
   // One node serves everything; with --port-per-robot, one more per robot.
   const int extra = options.port_per_robot ? int(world_->robot_count()) : 0;
+  // In a divided run the leader alone serves, the whole world.
+  const bool serves = options.serve && (!division || division->first());
   for (int i = -1; i < extra; ++i) {
     Node::Options no;
     no.name = i < 0 ? "troupe-sim" : "troupe-sim/" + world_->robot(RobotId(i)).name;
@@ -84,17 +98,29 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     auto server = std::make_unique<SimServer>(*world_, control_, i);
     SimServer* raw = server.get();
     if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
-    if (options.serve && !node->start(error)) {
+    if (serves && !node->start(error)) {
       error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
       return false;
     }
     servers_.push_back(raw);
     nodes_.push_back(std::move(node));
-    if (!options.serve) break;
+    if (!serves) break;
   }
-  if (!options.log.empty() && !log_.open(options.log, error)) return false;
+  // A divided run's log is written by its first process alone.
+  const bool writes_log = !division || division->first();
+  const bool log_open = options.log.empty() || !writes_log || log_.open(options.log, error);
+  if (division && division->any(!log_open)) {
+    if (log_open) error = "another process of the run failed (its error is above)";
+    return false;
+  }
+  if (!log_open) return false;
   for (SimServer* s : servers_) s->sync_wanted();
+  if (division && !division->start(*world_, error)) return false;
+  division_ = division;
+  // The leader serves and draws every robot: the others' states come to it.
+  mirror_ = division && (options.serve || !options.snapshot.empty());
   world_->refresh_sensors();
+  if (mirror_) division_->mirror(*world_);
   return true;
 }
 
@@ -161,8 +187,12 @@ void Runner::serve(int64_t wait_us) {
   // the reader does not wait for the next step.
   bool woke = false;
   for (SimServer* s : servers_) woke = s->sync_wanted() || woke;
+  // A divided run's inputs (a teleport, a sensor wanted) reach the robots'
+  // processes with the next step; while paused, at once.
+  if (division_) woke = division_->pending();
   if (woke && control_.paused) {
-    world_->refresh_sensors();
+    if (division_) division_->sync(*world_, Division::Order::Refresh);
+    refresh();
     for (SimServer* s : servers_) s->publish();
   }
 }
@@ -205,10 +235,9 @@ void Runner::refuse_queued_steps(const std::string& why) {
 void Runner::step(uint32_t n) {
   for (uint32_t i = 0; i < n && !stop_; ++i) {
     for (SimServer* s : servers_) s->sync_wanted();
-    controllers_.update(*world_);
-    world_->step();
+    if (division_) division_->sync(*world_, Division::Order::Step);
+    step_once();
     for (SimServer* s : servers_) s->publish();
-    log_.record(*world_);
     for (const std::string& e : controllers_.take_errors()) log_warn("%s", e.c_str());
     if (!options_.snapshot.empty() && next_snapshot_ > 0 && world_->time() + 1e-9 >= next_snapshot_) {
       std::string err;
@@ -218,11 +247,60 @@ void Runner::step(uint32_t n) {
   }
 }
 
-void Runner::reset() {
-  world_->reset();
+void Runner::step_once() {
+  controllers_.update(*world_);
+  if (!division_) {
+    world_->step();
+    log_.record(*world_);
+    return;
+  }
+  world_->step(*division_);
+  division_->after_step(*world_);
+  if (!options_.log.empty() && division_->gather_poses(*world_, gathered_)) log_.record(*world_, gathered_);
+  if (mirror_) division_->mirror(*world_);
+}
+
+void Runner::refresh() {
+  if (division_) division_->ghosts(*world_);
   world_->refresh_sensors();
+  if (mirror_) division_->mirror(*world_);
+}
+
+void Runner::reset() {
+  if (division_) division_->sync(*world_, Division::Order::Reset);
+  reset_world();
   for (SimServer* s : servers_) s->publish();
   next_snapshot_ = options_.snapshot_every;
+}
+
+void Runner::reset_world() {
+  world_->reset();
+  if (division_) division_->restart(*world_);
+  world_->refresh_sensors();
+  if (mirror_) division_->mirror(*world_);
+}
+
+void Runner::release_followers() {
+  if (division_ && division_->first()) division_->sync(*world_, Division::Order::Stop);
+}
+
+int Runner::follow() {
+  for (;;) {
+    switch (division_->sync(*world_, Division::Order::Stop)) {
+      case Division::Order::Step:
+        step_once();
+        break;
+      case Division::Order::Refresh:
+        refresh();
+        break;
+      case Division::Order::Reset:
+        reset_world();
+        break;
+      case Division::Order::Stop:
+        if (options_.profile) division_->report(*world_);
+        return 0;
+    }
+  }
 }
 
 void Runner::progress(bool final) {
@@ -243,6 +321,7 @@ void Runner::progress(bool final) {
 }
 
 int Runner::run() {
+  if (division_ && !division_->first()) return follow();
   LoopParts parts;
   parts.time_s = [this] { return world_->time(); };
   parts.serve = [this](int64_t wait_us) { serve(wait_us); };
@@ -254,6 +333,7 @@ int Runner::run() {
     return true;
   };
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
+  if (division_) division_->sync(*world_, Division::Order::Stop);
   progress(true);
   if (quit_time_reached()) {
     char why[96];
@@ -276,7 +356,11 @@ int Runner::run() {
     log_error("the trajectory log %s could not be written completely", options_.log.c_str());
     return 1;
   }
-  if (options_.profile) std::fprintf(stderr, "%s", world_->profile().table().c_str());
+  if (options_.profile) {
+    // Every process takes part in the division's report; the first prints.
+    const std::string divided = division_ ? division_->report(*world_) : "";
+    std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
+  }
   return 0;
 }
 

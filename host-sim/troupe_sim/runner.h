@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host-sim/sim/controller_host.h"
+#include "host-sim/sim/division.h"
 #include "host-sim/sim/trajectory_log.h"
 #include "host-sim/sim/world.h"
 #include "host-sim/sim_control/pacing.h"
@@ -30,14 +31,22 @@ class Runner {
 
   /// Loads the world and its controllers and opens the servers. Problems
   /// with the world file go to `diags` (file:line); others to `error`.
-  bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error);
+  /// With `division` (troupe-sim under mpirun): this process steps its
+  /// share of the world, exchanging with the others every step; it must
+  /// outlive the runner.
+  bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
+            Division* division = nullptr);
   /// Runs until the quit time, request_stop(), or a fatal problem. Returns
   /// the process exit code: 0 when the run reached its quit time (however
   /// it got there, a client's Step included) or was asked to stop, 1 when
   /// the snapshot or the trajectory log could not be written.
   int run();
   /// Safe from any thread or a signal watcher.
+  /// Safe from a signal handler. In a divided run the leader's stop ends
+  /// the others' runs.
   void request_stop() { stop_ = true; }
+  /// A divided run's leader giving up before run(): the others stop too.
+  void release_followers();
 
   /// The bound TCP port of the main server (0 without one).
   uint16_t port() const;
@@ -61,6 +70,13 @@ class Runner {
   void serve(int64_t wait_us);
   void progress(bool final);
   void reset();
+  /// One step of the world (every process of a divided run takes part).
+  void step_once();
+  /// Sensors computed where the robots stand, without a step.
+  void refresh();
+  void reset_world();
+  /// A divided run's other processes: the leader's orders until it stops.
+  int follow();
   bool start_emulation(std::string& error);
   void step_emulation();
 
@@ -79,6 +95,9 @@ class Runner {
   double emulation_clock_us_ = 0;
   uint64_t emulation_wall_us_ = 0;
   TrajectoryLog log_;
+  Division* division_ = nullptr;
+  bool mirror_ = false;  // the leader's world gets every robot's state
+  std::vector<Pose> gathered_;  // every robot's pose, first process, divided runs
   double quit_time_ = 0;
   // simulation:0 Step requests, oldest first, run in slices between polls.
   struct QueuedSteps {
