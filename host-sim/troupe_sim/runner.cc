@@ -85,6 +85,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   const int extra = options.port_per_robot ? int(world_->robot_count()) : 0;
   // In a divided run the leader alone serves, the whole world.
   const bool serves = options.serve && (!division || division->first());
+  bool serve_failed = false;
   for (int i = -1; i < extra; ++i) {
     Node::Options no;
     no.name = i < 0 ? "troupe-sim" : "troupe-sim/" + world_->robot(RobotId(i)).name;
@@ -100,7 +101,10 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
     if (serves && !node->start(error)) {
       error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
-      return false;
+      // The other processes of a divided run learn it below.
+      if (!division) return false;
+      serve_failed = true;
+      break;
     }
     servers_.push_back(raw);
     nodes_.push_back(std::move(node));
@@ -108,12 +112,13 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   }
   // A divided run's log is written by its first process alone.
   const bool writes_log = !division || division->first();
-  const bool log_open = options.log.empty() || !writes_log || log_.open(options.log, error);
-  if (division && division->any(!log_open)) {
-    if (log_open) error = "another process of the run failed (its error is above)";
+  const bool ready = !serve_failed && (options.log.empty() || !writes_log || log_.open(options.log, error));
+  // One process failing stops them all, rather than leaving them waiting.
+  if (division && division->any(!ready)) {
+    if (ready) error = "another process of the run failed (its error is above)";
     return false;
   }
-  if (!log_open) return false;
+  if (!ready) return false;
   for (SimServer* s : servers_) s->sync_wanted();
   if (division && !division->start(*world_, error)) return false;
   division_ = division;
@@ -333,7 +338,12 @@ int Runner::run() {
     return true;
   };
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
-  if (division_) division_->sync(*world_, Division::Order::Stop);
+  // The others stop and report (every process takes part in the table).
+  std::string divided;
+  if (division_) {
+    division_->sync(*world_, Division::Order::Stop);
+    if (options_.profile) divided = division_->report(*world_);
+  }
   progress(true);
   if (quit_time_reached()) {
     char why[96];
@@ -356,11 +366,7 @@ int Runner::run() {
     log_error("the trajectory log %s could not be written completely", options_.log.c_str());
     return 1;
   }
-  if (options_.profile) {
-    // Every process takes part in the division's report; the first prints.
-    const std::string divided = division_ ? division_->report(*world_) : "";
-    std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
-  }
+  if (options_.profile) std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
   return 0;
 }
 
