@@ -3,6 +3,7 @@
 // Started as troupe-robocup (a symbolic link to it), it is
 // `troupe-sim --fast --no-serve`.
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
@@ -38,6 +39,12 @@ int main(int argc, char** argv) {
     division = divided.get();
     // One voice: the other processes say only what goes wrong.
     if (comm->rank() != 0) troupe::set_log_level(troupe::LogLevel::Warn);
+  }
+#else
+  // mpirun sets this in every process it starts.
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr) {
+    troupe::log_warn("this troupe-sim was built without MPI (-DTROUPE_MPI=OFF): every process mpirun "
+                     "started runs the whole world on its own");
   }
 #endif
   std::string error;
