@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "host-sim/sim/ball.h"
 #include "host-sim/sim/loader_internal.h"
 #include "host-sim/sim/static_map.h"
 #include "host-sim/world/png_image.h"
@@ -34,6 +35,8 @@ constexpr TypeEntry kTypes[] = {
     {"window", ModelKind::Window},
     {"camera", ModelKind::Camera},
     {"gripper", ModelKind::Gripper},
+    {"kicker", ModelKind::Kicker},
+    {"ball", ModelKind::Ball},
     {"actuator", ModelKind::NotSimulated},
     {"blinkenlight", ModelKind::NotSimulated},
     {"lightindicator", ModelKind::NotSimulated},
@@ -96,6 +99,7 @@ bool Loader::run(WorldDesc& out) {
   const Entity& w = file_.root();
   read_.set_units(w);
   world_properties(w, out);
+  physics_ = out.physics;
   std::map<std::string, world::SourceLoc> names;
   for (const Entity& e : w.children) {
     const ModelKind kind = model_kind(e.type);
@@ -105,6 +109,9 @@ bool Loader::run(WorldDesc& out) {
         continue;
       case ModelKind::Position:
         robot(e, out);
+        break;
+      case ModelKind::Ball:
+        ball(e, out);
         break;
       case ModelKind::Model:
         if (read_.flag(e, "gripper_return", false)) {
@@ -326,6 +333,47 @@ void Loader::puck(const Entity& e, WorldDesc& out) {
     for (const Property& p : child.properties) p.used = true;
   }
   out.robots.push_back(std::move(r));
+}
+
+bool Loader::needs_rigid(const Entity& e, const char* what) {
+  if (physics_ == Physics::Rigid) return true;
+  diags().error(e.loc, std::string(what) +
+                           " needs physics \"rigid\" (at the top of the world file): in Stage's kinematic "
+                           "world nothing can be pushed or kicked");
+  for (const Property& p : e.properties) p.used = true;
+  return false;
+}
+
+void Loader::ball(const Entity& e, WorldDesc& out) {
+  if (!needs_rigid(e, "a ball")) return;
+  BallDesc b;
+  if (auto n = read_.string(e, "name")) {
+    b.name = *n;
+  } else if (balls_++ > 0) {
+    b.name = "ball" + std::to_string(balls_ - 1);
+  }
+  b.pose = read_.pose(e, "pose", {});
+  if (auto col = read_.color(e)) b.color = *col;
+  b.radius = read_.length(e, "radius", b.radius);
+  b.mass = read_.number(e, "mass", b.mass);
+  b.deceleration = read_.number(e, "deceleration", b.deceleration);
+  if (!(b.radius > 0 && b.radius <= 1)) {
+    diags().error(e.find("radius")->loc, "a ball's radius must be > 0 and <= 1 m");
+    b.radius = 0.11;
+  }
+  if (!(b.mass > 0)) {
+    diags().error(e.find("mass")->loc, "a ball's mass must be > 0 kg");
+    b.mass = 0.43;
+  }
+  if (!(b.deceleration >= 0)) {
+    diags().error(e.find("deceleration")->loc, "a ball's deceleration must be >= 0 m/s^2");
+    b.deceleration = 0.4;
+  }
+  for (const Entity& child : e.children) {
+    diags().warn(child.loc, "a " + child.type + " on a ball is not simulated");
+    for (const Property& p : child.properties) p.used = true;
+  }
+  out.robots.push_back(ball_robot(b));
 }
 
 void Loader::check_grid_size(const Entity& w, const WorldDesc& out) {

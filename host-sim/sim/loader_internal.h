@@ -22,6 +22,8 @@ enum class ModelKind {
   Bumper,
   Camera,
   Gripper,
+  Kicker,
+  Ball,
   Block,
   Window,
   NotSimulated,
@@ -62,6 +64,8 @@ class Loader {
   /// A top-level model with `gripper_return 1`: a movable object.
   void puck(const world::Entity& e, WorldDesc& out);
   void check_grid_size(const world::Entity& w, const WorldDesc& out);
+  /// A top-level `ball`: a puck with a round rigid body (rigid worlds).
+  void ball(const world::Entity& e, WorldDesc& out);
 
   // load_robot.cc
   void robot(const world::Entity& e, WorldDesc& out);
@@ -73,6 +77,9 @@ class Loader {
   void bumper(const world::Entity& e, const Pose& at, RobotDesc& r);
   void camera(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void gripper(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  void kicker(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  /// False after an error at `e`: `what` needs physics "rigid".
+  bool needs_rigid(const world::Entity& e, const char* what);
   /// A camera's `mirror` keys; false after reporting a bad one.
   bool omni_mirror(const world::Entity& e, CameraDesc& d);
   void power(const world::Entity& e, RobotDesc& r);
@@ -81,6 +88,8 @@ class Loader {
   Reader read_;
   int unnamed_robots_ = 0;
   int pucks_ = 0;  // unnamed pucks so far, for their default names
+  int balls_ = 0;  // unnamed balls so far, likewise
+  Physics physics_ = Physics::Kinematic;  // the world's, read before its models
 };
 
 }  // namespace troupe::sim
