@@ -84,7 +84,12 @@ bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model
 }
 
 bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags) {
-  Loader loader(file, diags);
+  return load_world(file, out, diags, nullptr);
+}
+
+bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags,
+                ModelHandoff* handoff) {
+  Loader loader(file, diags, handoff);
   return loader.run(out);
 }
 
@@ -102,6 +107,7 @@ bool Loader::run(WorldDesc& out) {
   physics_ = out.physics;
   std::map<std::string, world::SourceLoc> names;
   for (const Entity& e : w.children) {
+    if (handoff_ && handoff_->take(e)) continue;
     const ModelKind kind = model_kind(e.type);
     switch (kind) {
       case ModelKind::Window:
@@ -142,6 +148,7 @@ bool Loader::run(WorldDesc& out) {
         diags().warn(name->loc, "a model is already named '" + it->first + "' at " + it->second.str());
     }
   }
+  if (handoff_) handoff_->finish(file_, diags());
   check_grid_size(w, out);
   file_.warn_unused(diags());
   return diags().error_count() == errors_before;

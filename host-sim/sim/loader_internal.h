@@ -6,6 +6,7 @@
 #include <string>
 
 #include "host-sim/sim/desc.h"
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/reader.h"
 #include "host-sim/world/worldfile.h"
 
@@ -44,7 +45,8 @@ struct ModelCommon {
 
 class Loader {
  public:
-  Loader(const world::WorldFile& file, world::Diagnostics& diags) : file_(file), read_(diags) {}
+  Loader(const world::WorldFile& file, world::Diagnostics& diags, ModelHandoff* handoff = nullptr)
+      : file_(file), read_(diags), handoff_(handoff) {}
   bool run(WorldDesc& out);
   /// load_robot_sensors().
   bool robot_sensors(const world::Entity& model, RobotDesc& out);
@@ -86,6 +88,7 @@ class Loader {
 
   const world::WorldFile& file_;
   Reader read_;
+  ModelHandoff* handoff_;
   int unnamed_robots_ = 0;
   int pucks_ = 0;  // unnamed pucks so far, for their default names
   int balls_ = 0;  // unnamed balls so far, likewise

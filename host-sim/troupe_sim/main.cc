@@ -6,6 +6,7 @@
 #include <cstring>
 #include <memory>
 
+#include "host-sim/robocup/game/world_load.h"
 #include "host-sim/troupe_sim/robocup_mode.h"
 #include "host-sim/troupe_sim/runner.h"
 #include "host-sim/viewer/view_server.h"
@@ -90,9 +91,16 @@ int main(int argc, char** argv) {
     }
   };
 
-  if (troupe::sim::is_robocup_world(options.world)) {
+  // The one loader: a Stage world's description, or a match's game part.
+  troupe::robocup::LoadedWorld loaded;
+  troupe::world::Diagnostics diags;
+  const bool loaded_ok = troupe::robocup::load_any_world(options.world, loaded, diags);
+  // Warnings (unknown keys, ...) and errors, each with file:line.
+  for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
+  if (!loaded_ok) return 1;
+  if (loaded.game) {
     troupe::sim::RobocupMode match;
-    if (!match.init(options, error)) {
+    if (!match.init(options, std::move(*loaded.game), error)) {
       std::fprintf(stderr, "%s: %s\n", program, error.c_str());
       return 1;
     }
@@ -114,9 +122,8 @@ int main(int argc, char** argv) {
   }
 
   troupe::sim::Runner runner;
-  troupe::world::Diagnostics diags;
-  const bool ok = runner.init(options, diags, error);
-  // Warnings (unknown keys, ...) and errors, each with file:line.
+  diags = {};
+  const bool ok = runner.init(options, loaded.desc, diags, error);
   for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
   if (!ok) {
     if (!error.empty()) std::fprintf(stderr, "%s: %s\n", program, error.c_str());

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/snapshot.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
@@ -47,9 +48,15 @@ Runner::~Runner() {
 }
 
 bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error) {
+  WorldDesc desc;
+  if (!load_world_file(options.world, desc, diags)) return false;
+  return init(options, desc, diags, error);
+}
+
+bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags,
+                  std::string& error) {
   options_ = options;
-  world_ = World::load(options.world, options.seed, diags);
-  if (!world_) return false;
+  world_ = std::make_unique<World>(desc, Random(options.seed));
 
   ControllerHost::Options copts;
   copts.search_path =

@@ -31,6 +31,9 @@ class Runner {
   /// Loads the world and its controllers and opens the servers. Problems
   /// with the world file go to `diags` (file:line); others to `error`.
   bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error);
+  /// The same for options.world's description, already loaded (by the one
+  /// loader, host-sim/robocup/game/world_load.h).
+  bool init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags, std::string& error);
   /// Runs until the quit time, request_stop(), or a fatal problem. Returns
   /// the process exit code: 0 when the run reached its quit time (however
   /// it got there, a client's Step included) or was asked to stop, 1 when

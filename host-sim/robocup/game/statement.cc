@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <span>
 
 #include "host-sim/robocup/physics/vec2.h"
 #include "host-sim/sim/loader.h"
@@ -140,7 +141,9 @@ class StageReader {
  public:
   StageReader(const world::WorldFile& file, std::string& error) : file_(file), error_(error) {}
 
-  bool world(const world::Entity& root, std::vector<Statement>& out) {
+  // The root's properties and `models` (top-level models of the root).
+  bool world(const world::Entity& root, std::span<const world::Entity* const> models,
+             std::vector<Statement>& out) {
     Statement physics = at("world", root.loc);
     for (const world::Property& p : root.properties) {
       p.used = true;
@@ -168,7 +171,8 @@ class StageReader {
       }
     }
     if (!physics.options.empty()) out.push_back(std::move(physics));
-    for (const world::Entity& e : root.children) {
+    for (const world::Entity* model : models) {
+      const world::Entity& e = *model;
       if (e.type == "robocup_field") {
         out.push_back(plain(e, "field"));
       } else if (e.type == "referee") {
@@ -337,7 +341,14 @@ std::string folder_of(const std::string& path) {
 }
 
 bool from_stage(const world::WorldFile& file, std::vector<Statement>& out, std::string& error) {
-  return StageReader(file, error).world(file.root(), out);
+  std::vector<const world::Entity*> models;
+  for (const world::Entity& e : file.root().children) models.push_back(&e);
+  return from_stage(file, models, out, error);
+}
+
+bool from_stage(const world::WorldFile& file, std::span<const world::Entity* const> models,
+                std::vector<Statement>& out, std::string& error) {
+  return StageReader(file, error).world(file.root(), models, out);
 }
 
 bool load_stage_file(const std::string& path, std::vector<Statement>& out, std::string& error) {

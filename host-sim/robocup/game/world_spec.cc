@@ -1,5 +1,7 @@
 #include "host-sim/robocup/game/world_spec.h"
 
+#include "host-sim/robocup/game/world_load.h"
+
 namespace troupe::robocup {
 namespace {
 
@@ -102,9 +104,19 @@ bool read_world(const std::vector<Statement>& statements, const std::string& fil
 }
 
 bool load_world_file(const std::string& path, WorldSpec& out, std::string& error) {
-  std::vector<Statement> st;
-  if (!load_stage_file(path, st, error)) return false;
-  return read_world(st, path, out, error);
+  LoadedWorld world;
+  world::Diagnostics diags;
+  if (!load_any_world(path, world, diags)) {
+    error = diags.str();
+    while (!error.empty() && error.back() == '\n') error.pop_back();
+    return false;
+  }
+  if (!world.game) {
+    error = path + ": no RoboCup models (robocup_field, referee, robocup_robot): a Stage world";
+    return false;
+  }
+  out = std::move(*world.game);
+  return true;
 }
 
 bool parse_world_text(const std::string& text, const std::string& file, WorldSpec& out, std::string& error) {
