@@ -150,6 +150,10 @@ void Loader::robot_part(const Entity& e, const Pose& parent, RobotDesc& r) {
       kicker(e, c, at, r);
       default_block = true;
       break;
+    case ModelKind::Ball:
+      diags().warn(e.loc, "a ball inside a model is ignored; a ball is a top-level model");
+      for (const Property& p : e.properties) p.used = true;
+      return;
     case ModelKind::Sensor:
       diags().warn(e.loc, "a sensor( ... ) belongs inside a ranger; ignored");
       for (const Property& p : e.properties) p.used = true;
