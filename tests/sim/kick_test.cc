@@ -144,7 +144,7 @@ TEST(KickWorld, SameSeedSameKick) {
 
 // ---- The world file's mistakes ----------------------------------------------
 
-TEST(KickWorldFile, UnknownKeysInBallAndKickerWarnWithFileAndLine) {
+TEST(KickWorldFile, UnknownKeysInBallAndKickerAndABallInARobotWarnWithFileAndLine) {
   troupe::test::TempDir dir;
   world::Diagnostics d;
   WorldDesc w;
@@ -153,6 +153,7 @@ resolution 0.02
 ball ( radius 0.1 bounce 3 )
 position ( name "k" size [0.4 0.4 0.3]
   kicker ( pose [0.2 0 0 0] size [0.03 0.3 0.1] accel 100 power 9 )
+  ball ( )
 )
 )"),
                               w, d))
@@ -163,6 +164,7 @@ position ( name "k" size [0.4 0.4 0.3]
   EXPECT_NE(text.find("bounce"), std::string::npos) << text;
   EXPECT_NE(text.find("t.world:5"), std::string::npos) << text;
   EXPECT_NE(text.find("power"), std::string::npos) << text;
+  EXPECT_NE(text.find("t.world:6: warning: a ball inside a model is ignored"), std::string::npos) << text;
   // What was right is kept.
   ASSERT_EQ(w.robots.size(), 2u);
   EXPECT_EQ(w.robots[0].rigid->shapes[0].radius, 0.1);
