@@ -457,8 +457,9 @@ void Loader::kicker(const Entity& e, const ModelCommon& c, const Pose& at, Robot
                       {"reach", &k.reach, 0, 1, "m"},
                       {"hold", &k.hold, 0, 60, "s"}};
   for (const Key& key : keys) {
-    const double v = key.name[0] == 'r' ? read_.length(e, key.name, *key.value)
-                                        : read_.number(e, key.name, *key.value);
+    // reach is a length (the world's unit_length applies); the rest are not.
+    const double v =
+        key.name[0] == 'r' ? read_.length(e, key.name, *key.value) : read_.number(e, key.name, *key.value);
     if (v >= key.min && v <= key.max) {
       *key.value = v;
     } else {
