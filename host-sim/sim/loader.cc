@@ -83,6 +83,12 @@ bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model
   return loader.robot_sensors(model, out);
 }
 
+bool load_ball(const world::WorldFile& file, const world::Entity& model, BallDesc& out,
+               world::Diagnostics& diags) {
+  Loader loader(file, diags);
+  return loader.ball_keys(model, out);
+}
+
 bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags) {
   return load_world(file, out, diags, nullptr);
 }
@@ -354,33 +360,37 @@ bool Loader::needs_rigid(const Entity& e, const char* what) {
 void Loader::ball(const Entity& e, WorldDesc& out) {
   if (!needs_rigid(e, "a ball")) return;
   BallDesc b;
-  if (auto n = read_.string(e, "name")) {
-    b.name = *n;
-  } else if (balls_++ > 0) {
-    b.name = "ball" + std::to_string(balls_ - 1);
-  }
-  b.pose = read_.pose(e, "pose", {});
+  if (e.find("name") == nullptr && balls_++ > 0) b.name = "ball" + std::to_string(balls_ - 1);
+  ball_keys(e, b);
+  out.robots.push_back(ball_robot(b));
+}
+
+bool Loader::ball_keys(const Entity& e, BallDesc& b) {
+  const size_t errors_before = diags().error_count();
+  read_.set_units(file_.root());
+  if (auto n = read_.string(e, "name")) b.name = *n;
+  b.pose = read_.pose(e, "pose", b.pose);
   if (auto col = read_.color(e)) b.color = *col;
   b.radius = read_.length(e, "radius", b.radius);
   b.mass = read_.number(e, "mass", b.mass);
   b.deceleration = read_.number(e, "deceleration", b.deceleration);
-  if (!(b.radius > 0 && b.radius <= 1)) {
-    diags().error(e.find("radius")->loc, "a ball's radius must be > 0 and <= 1 m");
+  if (!(b.radius >= 0.01 && b.radius <= 1)) {
+    diags().error(e.find("radius")->loc, "a ball's radius must be in [0.01, 1] m");
     b.radius = 0.11;
   }
-  if (!(b.mass > 0)) {
-    diags().error(e.find("mass")->loc, "a ball's mass must be > 0 kg");
+  if (!(b.mass >= 0.001 && b.mass <= 100)) {
+    diags().error(e.find("mass")->loc, "a ball's mass must be in [0.001, 100] kg");
     b.mass = 0.43;
   }
-  if (!(b.deceleration >= 0)) {
-    diags().error(e.find("deceleration")->loc, "a ball's deceleration must be >= 0 m/s^2");
+  if (!(b.deceleration >= 0 && b.deceleration <= 100)) {
+    diags().error(e.find("deceleration")->loc, "a ball's deceleration must be in [0, 100] m/s^2");
     b.deceleration = 0.4;
   }
   for (const Entity& child : e.children) {
     diags().warn(child.loc, "a " + child.type + " on a ball is not simulated");
     for (const Property& p : child.properties) p.used = true;
   }
-  out.robots.push_back(ball_robot(b));
+  return diags().error_count() == errors_before;
 }
 
 void Loader::check_grid_size(const Entity& w, const WorldDesc& out) {

@@ -60,6 +60,13 @@ bool is_robot_sensor(const std::string& type);
 bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model, RobotDesc& out,
                         world::Diagnostics& diags);
 
+/// Reads a `ball` model's keys into `out` (sim/desc.h, BallDesc), as the
+/// loader reads a Stage world's ball: a RoboCup match's ball (read by the
+/// game layer's reader) reuses it. Unknown keys are left for the file's
+/// warn_unused. False when there were errors (in `diags`, file:line).
+bool load_ball(const world::WorldFile& file, const world::Entity& model, BallDesc& out,
+               world::Diagnostics& diags);
+
 /// Reads, parses and converts a world file.
 bool load_world_file(const std::string& path, WorldDesc& out, world::Diagnostics& diags);
 

@@ -50,6 +50,8 @@ class Loader {
   bool run(WorldDesc& out);
   /// load_robot_sensors().
   bool robot_sensors(const world::Entity& model, RobotDesc& out);
+  /// load_ball(): a ball's keys.
+  bool ball_keys(const world::Entity& e, BallDesc& b);
 
  private:
   world::Diagnostics& diags() { return read_.diags(); }

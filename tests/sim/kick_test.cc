@@ -209,7 +209,7 @@ position ( kicker ( hold 100 ) )
   for (const char* where : {"t.world:2", "t.world:3", "t.world:4", "t.world:5"}) {
     EXPECT_NE(text.find(where), std::string::npos) << where << "\n" << text;
   }
-  EXPECT_NE(text.find("radius"), std::string::npos) << text;
+  EXPECT_NE(text.find("a ball's radius must be in [0.01, 1] m"), std::string::npos) << text;
   EXPECT_NE(text.find("accel must be in [0, 100000] m/s^2"), std::string::npos) << text;
 }
 

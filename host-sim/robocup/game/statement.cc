@@ -178,8 +178,16 @@ class StageReader {
       } else if (e.type == "referee") {
         out.push_back(plain(e, "referee"));
       } else if (e.type == "ball") {
-        Statement st;
-        if (!posed(e, "ball", st, false)) return false;
+        // The engine's reader, as a Stage world's ball is read.
+        Statement st = at("ball", e.loc);
+        auto ball = std::make_shared<sim::BallDesc>();
+        world::Diagnostics diags;
+        if (!sim::load_ball(file_, e, *ball, diags)) {
+          for (const world::Diagnostic& d : diags.items()) {
+            if (d.severity == world::Severity::Error) return fail(d.loc, d.message);
+          }
+        }
+        st.ball = std::move(ball);
         out.push_back(std::move(st));
       } else if (e.type == "robocup_robot") {
         Statement st;

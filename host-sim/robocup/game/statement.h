@@ -28,6 +28,9 @@ struct Statement {
   /// blobfinder, bumper, gripper), read by the engine's loader: only the
   /// sensor lists are filled, cameras standing on height 0. Null for none.
   std::shared_ptr<const sim::RobotDesc> stage_sensors;
+  /// A `ball`'s keys, read by the engine's loader (sim::load_ball): the
+  /// one reader of `ball`, in a match as in a Stage world.
+  std::shared_ptr<const sim::BallDesc> ball;
   std::string file;
   int line = 0;
 

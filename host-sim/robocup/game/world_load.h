@@ -4,7 +4,8 @@
 // position robots, sensors, pucks, a ball and kickers in rigid worlds) and
 // hands a match's models (robocup_field, referee, ball, robocup_robot, and
 // types defined from them) to the game layer's reader (world_spec.h), so
-// each keyword has one reader.
+// each keyword has one reader (a match's ball's keys are the engine's
+// reader's, sim::load_ball, and its robots' Stage sensors likewise).
 //
 // A world is a match when it holds a robocup_field, a referee or a
 // robocup_robot; its ball then is the match's (the referee watches it).

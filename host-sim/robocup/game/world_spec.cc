@@ -30,14 +30,15 @@ bool read_physics(const Statement& st, WorldSpec& w, std::string& error) {
   return true;
 }
 
-bool read_ball(const Statement& st, BallSpec& b, std::string& error) {
-  Options o = st.reader();
-  b.radius = o.number("radius", b.radius, 0.01, 1);
-  b.mass = o.number("mass", b.mass, 0.001, 100);
-  b.deceleration = o.number("deceleration", b.deceleration, 0, 100);
-  b.start = {o.number("x", 0), o.number("y", 0)};
-  if (!o.finish(error)) return fail(st, error, error);
-  return true;
+// The engine read the ball's keys (Statement::ball); the match takes its
+// size, mass, slowing and kick-off spot.
+BallSpec ball_spec(const sim::BallDesc& b) {
+  BallSpec out;
+  out.radius = b.radius;
+  out.mass = b.mass;
+  out.deceleration = b.deceleration;
+  out.start = {b.pose.x, b.pose.y};
+  return out;
 }
 
 bool read_robot_entry(const Statement& st, WorldSpec& w, std::string& error) {
@@ -91,7 +92,8 @@ bool read_world(const std::vector<Statement>& statements, const std::string& fil
     } else if (st.keyword == "field") {
       if (!read_field(st, w.field, error)) return false;
     } else if (st.keyword == "ball") {
-      if (!read_ball(st, w.ball, error)) return false;
+      if (!st.ball) return fail(st, "a ball needs its model's keys", error);
+      w.ball = ball_spec(*st.ball);
     } else if (st.keyword == "referee") {
       if (!read_referee(st, w.referee, error)) return false;
     } else if (st.keyword == "robot") {
