@@ -230,9 +230,8 @@ class StageReader {
     return st;
   }
 
-  // `pose [x y z a]` as x, y (and a, rad) options.
-  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading,
-             const char* arg_key = nullptr) {
+  // `pose [x y z a]` as x, y and a (rad) options.
+  bool posed(const world::Entity& e, std::string keyword, Statement& st, const char* arg_key) {
     st = plain(e, std::move(keyword), arg_key);
     for (auto it = st.options.begin(); it != st.options.end(); ++it) {
       if (it->first != "pose") continue;
@@ -246,18 +245,16 @@ class StageReader {
       st.options.erase(it);
       st.options.emplace_back("x", p->values[0].text);
       st.options.emplace_back("y", p->values[1].text);
-      if (heading) {
-        char a[32];
-        std::snprintf(a, sizeof a, "%.17g", radians_ ? v[3] : v[3] * kPi / 180);
-        st.options.emplace_back("a", a);
-      }
+      char a[32];
+      std::snprintf(a, sizeof a, "%.17g", radians_ ? v[3] : v[3] * kPi / 180);
+      st.options.emplace_back("a", a);
       break;
     }
     return true;
   }
 
   bool robot(const world::Entity& e, Statement& st) {
-    if (!posed(e, "robot", st, true, "name")) return false;
+    if (!posed(e, "robot", st, "name")) return false;
     if (st.args.empty()) return fail(e.loc, "a robocup_robot needs a name");
     // mass and inertia are the robot file's `mass M inertia=I`.
     Statement mass = at("mass", e.loc);
