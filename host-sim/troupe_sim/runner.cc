@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/snapshot.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
@@ -31,12 +32,14 @@ uint64_t sim_clock_us(void* ctx) {
 bool starts_paused(const SimOptions& options, const WorldDesc& d) {
   if (!d.paused) return false;
   if (!options.serve) {
-    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs", d.paused_at.c_str());
+    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs",
+             d.paused_at.c_str());
     return false;
   }
   const std::string port = options.port == 0 ? "PORT" : std::to_string(options.port);
-  log_info("%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
-           d.paused_at.c_str(), options.listen.c_str(), port.c_str());
+  log_info(
+      "%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
+      d.paused_at.c_str(), options.listen.c_str(), port.c_str());
   return true;
 }
 
@@ -48,6 +51,13 @@ Runner::~Runner() {
 
 bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
                   Division* division) {
+  WorldDesc desc;
+  if (!load_world_file(options.world, desc, diags)) return false;
+  return init(options, desc, diags, error, division);
+}
+
+bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags,
+                  std::string& error, Division* division) {
   options_ = options;
   if (division) {
     // Devices presented as hardware live beside their robot's process.
@@ -60,8 +70,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
       return false;
     }
   }
-  world_ = World::load(options.world, options.seed, diags);
-  if (!world_) return false;
+  world_ = std::make_unique<World>(desc, Random(options.seed));
 
   ControllerHost::Options copts;
   copts.search_path =
