@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/snapshot.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
@@ -31,12 +32,14 @@ uint64_t sim_clock_us(void* ctx) {
 bool starts_paused(const SimOptions& options, const WorldDesc& d) {
   if (!d.paused) return false;
   if (!options.serve) {
-    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs", d.paused_at.c_str());
+    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs",
+             d.paused_at.c_str());
     return false;
   }
   const std::string port = options.port == 0 ? "PORT" : std::to_string(options.port);
-  log_info("%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
-           d.paused_at.c_str(), options.listen.c_str(), port.c_str());
+  log_info(
+      "%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
+      d.paused_at.c_str(), options.listen.c_str(), port.c_str());
   return true;
 }
 
@@ -48,6 +51,13 @@ Runner::~Runner() {
 
 bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
                   Division* division) {
+  WorldDesc desc;
+  if (!load_world_file(options.world, desc, diags)) return false;
+  return init(options, desc, diags, error, division);
+}
+
+bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags,
+                  std::string& error, Division* division) {
   options_ = options;
   if (division) {
     // Devices presented as hardware live beside their robot's process.
@@ -60,8 +70,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
       return false;
     }
   }
-  world_ = World::load(options.world, options.seed, diags);
-  if (!world_) return false;
+  world_ = std::make_unique<World>(desc, Random(options.seed));
 
   ControllerHost::Options copts;
   copts.search_path =
@@ -85,6 +94,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   const int extra = options.port_per_robot ? int(world_->robot_count()) : 0;
   // In a divided run the leader alone serves, the whole world.
   const bool serves = options.serve && (!division || division->first());
+  bool serve_failed = false;
   for (int i = -1; i < extra; ++i) {
     Node::Options no;
     no.name = i < 0 ? "troupe-sim" : "troupe-sim/" + world_->robot(RobotId(i)).name;
@@ -100,7 +110,10 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
     if (serves && !node->start(error)) {
       error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
-      return false;
+      // The other processes of a divided run learn it below.
+      if (!division) return false;
+      serve_failed = true;
+      break;
     }
     servers_.push_back(raw);
     nodes_.push_back(std::move(node));
@@ -108,12 +121,13 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   }
   // A divided run's log is written by its first process alone.
   const bool writes_log = !division || division->first();
-  const bool log_open = options.log.empty() || !writes_log || log_.open(options.log, error);
-  if (division && division->any(!log_open)) {
-    if (log_open) error = "another process of the run failed (its error is above)";
+  const bool ready = !serve_failed && (options.log.empty() || !writes_log || log_.open(options.log, error));
+  // One process failing stops them all, rather than leaving them waiting.
+  if (division && division->any(!ready)) {
+    if (ready) error = "another process of the run failed (its error is above)";
     return false;
   }
-  if (!log_open) return false;
+  if (!ready) return false;
   for (SimServer* s : servers_) s->sync_wanted();
   if (division && !division->start(*world_, error)) return false;
   division_ = division;
@@ -333,7 +347,12 @@ int Runner::run() {
     return true;
   };
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
-  if (division_) division_->sync(*world_, Division::Order::Stop);
+  // The others stop and report (every process takes part in the table).
+  std::string divided;
+  if (division_) {
+    division_->sync(*world_, Division::Order::Stop);
+    if (options_.profile) divided = division_->report(*world_);
+  }
   progress(true);
   if (quit_time_reached()) {
     char why[96];
@@ -356,11 +375,7 @@ int Runner::run() {
     log_error("the trajectory log %s could not be written completely", options_.log.c_str());
     return 1;
   }
-  if (options_.profile) {
-    // Every process takes part in the division's report; the first prints.
-    const std::string divided = division_ ? division_->report(*world_) : "";
-    std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
-  }
+  if (options_.profile) std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
   return 0;
 }
 

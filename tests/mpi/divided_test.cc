@@ -17,6 +17,8 @@ namespace troupe::sim {
 namespace {
 
 constexpr int kRunMs = 300000;  // bounds a hung run, not a requirement
+// A refusal takes a few seconds; a rank left waiting would hang until this.
+constexpr int kRefusalMs = 60000;
 
 const std::string kSim = std::string(TROUPE_BINARY_DIR) + "/bin/troupe-sim";
 
@@ -254,17 +256,30 @@ TEST_F(Divided, WhatCannotBeDividedIsRefusedByEveryRankWithItsReason) {
   const std::string forage = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/forage.world";
   testing::ProgramResult r = testing::run_to_end(
       join(mpirun(2), {kSim, forage, "--no-serve", "--no-ctrl", "--quit-time", "1"}),
-      kRunMs);
-  EXPECT_NE(r.status, 0);
+      kRefusalMs);
+  EXPECT_EQ(r.status, 1) << "mpirun ends with its ranks' status, not killed on a hang";
   EXPECT_NE(r.err.find("cannot be divided"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("rigid"), std::string::npos) << r.err;
   // A log nobody can write stops every rank, not the first alone.
   const std::string swarm = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
   r = testing::run_to_end(join(mpirun(2), {kSim, swarm, "--no-serve", "--quit-time", "1", "--log",
                                            dir_ + "/no/such/folder/log.csv"}),
-                          kRunMs);
-  EXPECT_NE(r.status, 0);
+                          kRefusalMs);
+  EXPECT_EQ(r.status, 1) << "mpirun ends with its ranks' status, not killed on a hang";
   EXPECT_NE(r.err.find("cannot write"), std::string::npos) << r.err;
+  // So does a port already taken, which only the leader would have served.
+  testing::ChildProcess first;
+  std::string error;
+  ASSERT_TRUE(first.start({kSim, swarm, "--port", "0", "--no-view", "--paused"}, dir_, "first", error)) << error;
+  ASSERT_TRUE(first.wait_for("listening on ", false, kRunMs)) << first.err();
+  const std::string out = first.out();
+  const std::string at = out.substr(out.find("listening on ") + 13);
+  const std::string port = std::to_string(std::atoi(at.c_str() + at.find(':') + 1));
+  r = testing::run_to_end(join(mpirun(2), {kSim, swarm, "--port", port, "--no-view", "--quit-time", "1"}),
+                          kRefusalMs);
+  EXPECT_EQ(r.status, 1) << "mpirun ends with its ranks' status, not killed on a hang";
+  EXPECT_NE(r.err.find("cannot serve on"), std::string::npos) << r.err;
+  first.stop();
 }
 
 // What a client sees of swarm100.world, paused and driven by the troupe
