@@ -522,8 +522,15 @@ TEST_F(Divided, AThousandRobotsServedByTwoRanksAnswerAsInOneProcess) {
 // clusters while two ranks run them: every robot keeps answering at its
 // address while robots move between the ranks.
 TEST_F(Divided, SwarmClientsDriveAThousandRobotsSplitOverTwoRanks) {
+#if defined(__SANITIZE_ADDRESS__)
+  // Measured on 2 shared cores: built with AddressSanitizer, the leader
+  // steps this world at about 0.3x real time while serving 1,001
+  // connections, and swarm-clients' ground-truth requests outlast their
+  // 2 s timeout. The release build runs this test.
+  GTEST_SKIP() << "too slow under AddressSanitizer for swarm-clients' 2 s request timeout";
+#endif
   const std::string world = write("swarm1000.world", swarm1000_world());
-  // At 4x real time until 300 simulated s; the clients drive for 6 s of
+  // At 4x real time until 300 simulated s; the clients drive for 12 s of
   // wall time once connected, then the run goes on as fast as it can to its
   // end, where the leader prints the division's table. (Not started
   // paused: a paused troupe-sim takes about a minute to accept a thousand
@@ -543,7 +550,7 @@ TEST_F(Divided, SwarmClientsDriveAThousandRobotsSplitOverTwoRanks) {
 
   testing::ChildProcess clients;
   std::string error;
-  ASSERT_TRUE(clients.start({SWARM_CLIENTS, host, "--seconds", "6"}, dir_, "clients", error)) << error;
+  ASSERT_TRUE(clients.start({SWARM_CLIENTS, host, "--seconds", "12"}, dir_, "clients", error)) << error;
   EXPECT_EQ(clients.wait_exit(kRunMs), 0) << clients.out() << clients.err();
   const std::string seen = clients.out();
   // Every robot's ranger delivered scans to its client to the end.
