@@ -5,10 +5,12 @@
 // crossing a cut every step, a crowd on the corner where four regions meet,
 // regions redrawn every few steps, and controllers whose memory travels.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "tests/support/child_process.h"
@@ -84,8 +86,8 @@ std::string large_world() {
   // make that fit the identity.
   for (int c : {-1, 1}) {
     const double a = 36.0 * c, b = a - 0.2 * c;
-    w << "  block ( points 4 point[0] [" << a << " " << a << "] point[1] [" << b << " " << a << "] point[2] [" << b
-      << " " << b << "] point[3] [" << a << " " << b << "] )\n";
+    w << "  block ( points 4 point[0] [" << a << " " << a << "] point[1] [" << b << " " << a << "] point[2] ["
+      << b << " " << b << "] point[3] [" << a << " " << b << "] )\n";
   }
   w << ")\n"
        "define sonar sensor ( range [ 0 3 ] fov 20 samples 1 )\n"
@@ -95,10 +97,41 @@ std::string large_world() {
   int n = 0;
   for (int i = -4; i <= 4; ++i) {
     for (int j = -4; j <= 4; ++j) {
-      w << "bot ( name \"w" << n << "\" pose [ " << 6.0 * i + 3 << " " << 6.0 * j + 3 << " 0 " << (n * 53) % 360
-        << " ] )\n";
+      w << "bot ( name \"w" << n << "\" pose [ " << 6.0 * i + 3 << " " << 6.0 * j + 3 << " 0 "
+        << (n * 53) % 360 << " ] )\n";
       ++n;
     }
+  }
+  return w.str();
+}
+
+// 1,000 of swarm100.world's robots (its definitions, read from it, with
+// fiducial finders of 2 m instead of 4 m: a thousand 4 m finders in a
+// crowd cost 80 ms a step) in a walled 50 x 50 m hall, one in each cell of
+// a 32 x 32 grid but the last 24, placed within their cells by a seeded
+// generator: wandering and gathering in clusters, robots cross the cut.
+std::string swarm1000_world() {
+  std::string swarm = read_file(std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world");
+  const size_t from = swarm.find("define sonar "), to = swarm.find("swarmbot ( name");
+  const std::string finder = "range_max 4 range_max_id 4";
+  const size_t range = swarm.find(finder);
+  if (from == std::string::npos || to == std::string::npos || range == std::string::npos) return "";
+  swarm.replace(range, finder.size(), "range_max 2 range_max_id 2");
+  std::ostringstream w;
+  w << "resolution 0.02\ninterval_sim 100\n"
+       "define wall model ( color \"gray30\" )\n"
+       "wall ( name \"north\" size [ 50.4 0.2 1 ] pose [ 0 25.1 0 0 ] )\n"
+       "wall ( name \"south\" size [ 50.4 0.2 1 ] pose [ 0 -25.1 0 0 ] )\n"
+       "wall ( name \"east\" size [ 0.2 50 1 ] pose [ 25.1 0 0 0 ] )\n"
+       "wall ( name \"west\" size [ 0.2 50 1 ] pose [ -25.1 0 0 0 ] )\n"
+    << swarm.substr(from, to - from);
+  const double cell = 50.0 / 32;  // m
+  std::mt19937 rng(1000);
+  std::uniform_real_distribution<double> within(-0.5, 0.5), heading(0, 360);
+  for (int n = 0; n < 1000; ++n) {
+    const double x = -25 + cell * (n % 32 + 0.5) + within(rng), y = -25 + cell * (n / 32 + 0.5) + within(rng);
+    w << "swarmbot ( name \"b" << n << "\" pose [ " << x << " " << y << " 0 " << int(heading(rng))
+      << " ] )\n";
   }
   return w.str();
 }
@@ -134,9 +167,13 @@ class Divided : public ::testing::Test {
   // log returned; `report` gets the division's table (--profile).
   std::string run(const std::string& world, int ranks, const std::vector<std::string>& more,
                   std::string* report = nullptr) {
-    const std::string log = dir_ + "/log" + std::to_string(ranks) + ".csv";
-    std::vector<std::string> argv;
-    if (ranks > 0) argv = mpirun(ranks);
+    return run_under(ranks > 0 ? mpirun(ranks) : std::vector<std::string>{}, world, more, report);
+  }
+  // The same, started by `launcher` (an mpirun command line, or nothing).
+  std::string run_under(const std::vector<std::string>& launcher, const std::string& world,
+                        const std::vector<std::string>& more, std::string* report = nullptr) {
+    const std::string log = dir_ + "/log" + std::to_string(++runs_) + ".csv";
+    std::vector<std::string> argv = launcher;
     for (const std::string& a : {kSim, world, std::string("--no-serve"), std::string("--fast"),
                                  std::string("--seed"), std::string("5"), std::string("--log"), log})
       argv.push_back(a);
@@ -153,6 +190,7 @@ class Divided : public ::testing::Test {
   }
 
   std::string dir_;
+  int runs_ = 0;
 };
 
 // How many robots the ranks handed over, from the division's table.
@@ -282,31 +320,153 @@ TEST_F(Divided, WhatCannotBeDividedIsRefusedByEveryRankWithItsReason) {
   first.stop();
 }
 
-// What a client sees of swarm100.world, paused and driven by the troupe
-// CLI: commands to robots in different regions, steps, sensors read, a
-// robot teleported across the cuts and driven on, a reset. Everything the
-// CLI prints, in order.
-std::string client_session(const std::string& host) {
+// Two "machines" on this one: two network namespaces, each with its own
+// loopback and one end of a veth pair (10.231.0.1 and .2), so the only way
+// between them is TCP over the pair. mpirun runs in the first and starts
+// its daemon in the second through a launch agent standing in for ssh.
+// Removed (with the pair) when this object goes, whatever the test did.
+class TwoMachines {
+ public:
+  static constexpr const char* kFirst = "10.231.0.1";
+  static constexpr const char* kSecond = "10.231.0.2";
+
+  ~TwoMachines() {
+    for (const std::string& ns : made_) testing::run_to_end({"ip", "netns", "delete", ns}, kRunMs);
+  }
+  // False with the reason when this machine cannot make them (not root,
+  // no CAP_SYS_ADMIN, no iproute2, no veth).
+  bool make(const std::string& dir, std::string& why) {
+    const std::string id = std::to_string(getpid());
+    ns_[0] = "troupe-mpi-a-" + id;
+    ns_[1] = "troupe-mpi-b-" + id;
+    const std::string link[2] = {"trmpa" + id, "trmpb" + id};  // at most 15 characters
+    for (const std::string& ns : ns_) {
+      if (!ip({"netns", "add", ns}, why)) return false;
+      made_.push_back(ns);
+      if (!ip({"-n", ns, "link", "set", "lo", "up"}, why)) return false;
+    }
+    if (!ip({"link", "add", link[0], "type", "veth", "peer", "name", link[1]}, why)) return false;
+    const char* address[2] = {kFirst, kSecond};
+    for (int i = 0; i < 2; ++i) {
+      if (!ip({"link", "set", link[i], "netns", ns_[i]}, why) ||
+          !ip({"-n", ns_[i], "addr", "add", std::string(address[i]) + "/24", "dev", link[i]}, why) ||
+          !ip({"-n", ns_[i], "link", "set", link[i], "up"}, why))
+        return false;
+    }
+    // What mpirun runs for a remote host: ssh would hand the command line
+    // to a shell there, so the agent does the same in that host's namespace.
+    agent_ = dir + "/netns-agent.sh";
+    std::ofstream(agent_) << "#!/bin/sh\n"
+                          << "case \"$1\" in " << kSecond << ") ns=" << ns_[1] << " ;; *) ns=" << ns_[0]
+                          << " ;; esac\nshift\nexec ip netns exec \"$ns\" sh -c \"$*\"\n";
+    return chmod(agent_.c_str(), 0755) == 0 || (why = "cannot make " + agent_ + " executable", false);
+  }
+  // mpirun, run in the first namespace, placing one rank on each machine
+  // and keeping both MPI's messages and its own control traffic on TCP
+  // over the pair.
+  std::vector<std::string> launcher() const {
+    return {"ip",
+            "netns",
+            "exec",
+            ns_[0],
+            "env",
+            "ASAN_OPTIONS=detect_leaks=0",  // as mpirun() above says
+            MPIEXEC,
+            "--host",
+            std::string(kFirst) + ":1," + kSecond + ":1",
+            "-np",
+            "2",
+            "--mca",
+            "plm_rsh_agent",
+            agent_,
+            "--mca",
+            "btl",
+            "tcp,self",
+            "--mca",
+            "btl_tcp_if_include",
+            "10.231.0.0/24",
+            "--mca",
+            "oob_tcp_if_include",
+            "10.231.0.0/24"};
+  }
+
+ private:
+  static bool ip(const std::vector<std::string>& args, std::string& why) {
+    std::vector<std::string> argv = {"ip"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    const testing::ProgramResult r = testing::run_to_end(argv, kRunMs);
+    if (r.status == 0) return true;
+    why = "ip";
+    for (const std::string& a : args) why += " " + a;
+    why += ": " + (r.err.empty() ? "exit status " + std::to_string(r.status) : r.err);
+    return false;
+  }
+
+  std::string ns_[2];
+  std::vector<std::string> made_;
+  std::string agent_;
+};
+
+TEST_F(Divided, TwoMachinesOverTcpGiveTheSameBytesAsOneProcess) {
+  TwoMachines machines;
+  std::string why;
+  if (!machines.make(dir_, why)) {
+    GTEST_SKIP() << "network namespaces cannot be made here (needs root with CAP_SYS_ADMIN and iproute2): "
+                 << why;
+  }
+  // Each rank sees only its own machine's network: the ranks really are apart.
+  std::vector<std::string> argv = machines.launcher();
+  for (const char* a : {"ip", "-o", "-4", "addr", "show"}) argv.push_back(a);
+  const testing::ProgramResult where = testing::run_to_end(argv, kRunMs);
+  ASSERT_EQ(where.status, 0) << where.err;
+  EXPECT_NE(where.out.find(std::string("inet ") + TwoMachines::kFirst + "/"), std::string::npos) << where.out;
+  EXPECT_NE(where.out.find(std::string("inet ") + TwoMachines::kSecond + "/"), std::string::npos)
+      << where.out;
+
+  const std::string world = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
+  const std::vector<std::string> more = {"--quit-time", "30", "--rebalance-every", "25", "--profile"};
+  const std::string one = run(world, 0, more);
+  ASSERT_GT(one.size(), 100u * 300u * 20u);
+  std::string report;
+  EXPECT_TRUE(run_under(machines.launcher(), world, more, &report) == one) << "the logs differ";
+  EXPECT_NE(report.find("2 ranks"), std::string::npos) << report;
+  EXPECT_GT(migrations(report), 0) << report;
+}
+
+// Who a client session drives and reads: robots' names and one device.
+struct Cast {
+  std::string mover;    // driven, teleported across the cuts, driven on
+  std::string left;     // driven on one side of the first cut
+  std::string right;    // driven on the other side
+  std::string watched;  // a device echoed once ("b50/fiducial:0")
+};
+
+// What a client sees of a world, paused and driven by the troupe CLI:
+// commands to robots in different regions, steps, sensors read, a robot
+// teleported across the cuts and driven on, a reset. Everything the CLI
+// prints, in order.
+std::string client_session(const std::string& host, const Cast& c) {
   const std::string troupe = std::string(TROUPE_BINARY_DIR) + "/bin/troupe";
+  const std::string mover = c.mover + "/position2d:0", ranger = c.mover + "/ranger:0";
   const std::vector<std::vector<std::string>> session = {
-      {"cmd", host, "b7/position2d:0", "vel", "0.3", "0", "0.5"},
-      {"cmd", host, "b0/position2d:0", "vel", "0.4", "0", "0"},
-      {"cmd", host, "b99/position2d:0", "vel", "0.2", "0", "-0.3"},
+      {"cmd", host, mover, "vel", "0.3", "0", "0.5"},
+      {"cmd", host, c.left + "/position2d:0", "vel", "0.4", "0", "0"},
+      {"cmd", host, c.right + "/position2d:0", "vel", "0.2", "0", "-0.3"},
       {"req", host, "simulation:0", "step", "30"},
-      {"echo", host, "b7/position2d:0", "--count", "1"},
-      {"echo", host, "b7/ranger:0", "--count", "1"},
-      {"echo", host, "b50/fiducial:0", "--count", "1"},
-      {"req", host, "simulation:0", "setpose", "b7", "-6.2", "6.5", "2.5"},
-      {"req", host, "simulation:0", "getpose", "b7"},
-      {"cmd", host, "b7/position2d:0", "vel", "0.4", "0", "-0.2"},
+      {"echo", host, mover, "--count", "1"},
+      {"echo", host, ranger, "--count", "1"},
+      {"echo", host, c.watched, "--count", "1"},
+      {"req", host, "simulation:0", "setpose", c.mover, "-6.2", "6.5", "2.5"},
+      {"req", host, "simulation:0", "getpose", c.mover},
+      {"cmd", host, mover, "vel", "0.4", "0", "-0.2"},
       {"req", host, "simulation:0", "step", "40"},
-      {"req", host, "simulation:0", "getpose", "b0"},
-      {"req", host, "simulation:0", "getpose", "b99"},
-      {"echo", host, "b7/position2d:0", "--count", "1"},
-      {"echo", host, "b7/ranger:0", "--count", "1"},
+      {"req", host, "simulation:0", "getpose", c.left},
+      {"req", host, "simulation:0", "getpose", c.right},
+      {"echo", host, mover, "--count", "1"},
+      {"echo", host, ranger, "--count", "1"},
       {"req", host, "simulation:0", "reset"},
       {"req", host, "simulation:0", "step", "3"},
-      {"req", host, "simulation:0", "getpose", "b7"},
+      {"req", host, "simulation:0", "getpose", c.mover},
   };
   std::string out;
   for (const std::vector<std::string>& args : session) {
@@ -319,34 +479,115 @@ std::string client_session(const std::string& host) {
   return out;
 }
 
+// The port troupe-sim printed it listens on, as HOST:PORT on 127.0.0.1.
+std::string served_at(const testing::ChildProcess& sim) {
+  const std::string out = sim.out();
+  const std::string at = out.substr(out.find("listening on ") + 13);
+  return "127.0.0.1:" + std::to_string(std::atoi(at.c_str() + at.find(':') + 1));
+}
+
+// troupe-sim serving `world` paused on a free port, in `ranks` processes
+// (0: without mpirun), with `options` added.
+void serve(testing::ChildProcess& sim, const std::string& dir, const std::string& world, int ranks,
+           const std::vector<std::string>& options) {
+  std::vector<std::string> argv = ranks > 0 ? mpirun(ranks) : std::vector<std::string>{};
+  for (const std::string& a : {kSim, world, std::string("--port"), std::string("0"), std::string("--no-view"),
+                               std::string("--no-ctrl")})
+    argv.push_back(a);
+  argv.insert(argv.end(), options.begin(), options.end());
+  std::string error;
+  ASSERT_TRUE(sim.start(argv, dir, "sim" + std::to_string(ranks), error)) << error;
+  ASSERT_TRUE(sim.wait_for("listening on ", false, kRunMs)) << sim.err();
+}
+
+// The session on `world` served by `ranks` processes.
+std::string session_at(const std::string& dir, const std::string& world, int ranks, const Cast& cast) {
+  testing::ChildProcess sim;
+  serve(sim, dir, world, ranks, {"--paused"});
+  if (::testing::Test::HasFatalFailure()) return "";
+  const std::string seen = client_session(served_at(sim), cast);
+  // mpirun passes the SIGTERM on and reports the job ended by a signal
+  // (status 1); troupe-sim alone ends with 0. Neither hangs.
+  EXPECT_EQ(sim.stop(), ranks > 0 ? 1 : 0) << sim.err();
+  return seen;
+}
+
 TEST_F(Divided, ClientsSeeOneWorldOnOnePortAtAnyRankCount) {
   const std::string world = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
-  std::string one;
-  for (int ranks : {0, 2, 3}) {
-    std::vector<std::string> argv;
-    if (ranks > 0) argv = mpirun(ranks);
-    for (const char* a : {"--port", "0", "--no-view", "--paused", "--no-ctrl"}) argv.push_back(a);
-    argv.insert(argv.begin() + (ranks > 0 ? 6 : 0), {kSim, world});
-    testing::ChildProcess sim;
-    std::string error;
-    ASSERT_TRUE(sim.start(argv, dir_, "sim" + std::to_string(ranks), error)) << error;
-    ASSERT_TRUE(sim.wait_for("listening on ", false, kRunMs)) << sim.err();
-    const std::string out = sim.out();
-    const std::string at = out.substr(out.find("listening on ") + 13);
-    const std::string host = "127.0.0.1:" + std::to_string(std::atoi(at.c_str() + at.find(':') + 1));
-    const std::string seen = client_session(host);
-    // mpirun passes the SIGTERM on and reports the job ended by a signal
-    // (status 1); troupe-sim alone ends with 0. Neither hangs.
-    EXPECT_EQ(sim.stop(), ranks > 0 ? 1 : 0) << sim.err();
-    if (ranks == 0) {
-      one = seen;
-      // The session did what it says: b7 was teleported, then drove on.
-      EXPECT_NE(one.find("\"x\": -6.2"), std::string::npos) << one;
-      EXPECT_NE(one.find("ranges="), std::string::npos) << one;
-      continue;
-    }
-    EXPECT_EQ(seen, one) << ranks << " ranks";
+  const Cast cast{"b7", "b0", "b99", "b50/fiducial:0"};
+  const std::string one = session_at(dir_, world, 0, cast);
+  // The session did what it says: b7 was teleported, then drove on.
+  EXPECT_NE(one.find("\"x\": -6.2"), std::string::npos) << one;
+  EXPECT_NE(one.find("ranges="), std::string::npos) << one;
+  for (int ranks : {2, 3}) EXPECT_EQ(session_at(dir_, world, ranks, cast), one) << ranks << " ranks";
+}
+
+// packed1000.world: 1,000 robots in one block 0.25 m apart, 12 sonars
+// each; the first cut at 2 ranks falls at x = 0, between columns r19 and
+// r20 of its rows of 40.
+const std::string kPacked = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/packed1000.world";
+
+TEST_F(Divided, AThousandRobotsServedByTwoRanksAnswerAsInOneProcess) {
+  const Cast cast{"r7", "r19", "r20", "r999/ranger:0"};
+  const std::string one = session_at(dir_, kPacked, 0, cast);
+  EXPECT_NE(one.find("\"x\": -6.2"), std::string::npos) << one;
+  EXPECT_EQ(session_at(dir_, kPacked, 2, cast), one);
+}
+
+// swarm-clients, one connection per robot, gathers a thousand robots in
+// clusters while two ranks run them: every robot keeps answering at its
+// address while robots move between the ranks.
+TEST_F(Divided, SwarmClientsDriveAThousandRobotsSplitOverTwoRanks) {
+#if defined(__SANITIZE_ADDRESS__)
+  // Measured on 2 shared cores: built with AddressSanitizer, the leader
+  // steps this world at about 0.3x real time while serving 1,001
+  // connections, and swarm-clients' ground-truth requests outlast their
+  // 2 s timeout. The release build runs this test.
+  GTEST_SKIP() << "too slow under AddressSanitizer for swarm-clients' 2 s request timeout";
+#endif
+  const std::string world = write("swarm1000.world", swarm1000_world());
+  // At 4x real time until 300 simulated s; the clients drive for 12 s of
+  // wall time once connected, then the run goes on as fast as it can to its
+  // end, where the leader prints the division's table. (Not started
+  // paused: a paused troupe-sim takes about a minute to accept a thousand
+  // connections on this machine, against 3 s running.)
+  testing::ChildProcess sim;
+  serve(sim, dir_, world, 2, {"--speed", "4", "--quit-time", "300", "--rebalance-every", "0", "--profile"});
+  ASSERT_FALSE(HasFatalFailure());
+  const std::string host = served_at(sim);
+  const std::string troupe = std::string(TROUPE_BINARY_DIR) + "/bin/troupe";
+  auto request = [&](const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {troupe};
+    argv.insert(argv.end(), args.begin(), args.end());
+    const testing::ProgramResult r = testing::run_to_end(argv, kRunMs);
+    EXPECT_EQ(r.status, 0) << args[2] << ": " << r.err;
+    return r.out;
+  };
+
+  testing::ChildProcess clients;
+  std::string error;
+  ASSERT_TRUE(clients.start({SWARM_CLIENTS, host, "--seconds", "12"}, dir_, "clients", error)) << error;
+  EXPECT_EQ(clients.wait_exit(kRunMs), 0) << clients.out() << clients.err();
+  const std::string seen = clients.out();
+  // Every robot's ranger delivered scans to its client to the end.
+  EXPECT_NE(seen.find("1000 of 1000 robots answered in the last second"), std::string::npos) << seen;
+  // They gathered: each robot is nearer its nearest neighbour.
+  const size_t start = seen.find("mean distance at the start "), end = seen.find("mean distance at the end ");
+  ASSERT_NE(start, std::string::npos) << seen;
+  ASSERT_NE(end, std::string::npos) << seen;
+  EXPECT_LT(std::stod(seen.substr(end + 25)), std::stod(seen.substr(start + 27))) << seen;
+
+  // Addressed by name after the run, robots on both sides still answer.
+  request({"req", host, "simulation:0", "pause"});
+  for (const char* robot : {"b0", "b7", "b500", "b999"}) {
+    const std::string pose = request({"echo", host, std::string(robot) + "/position2d:0", "--count", "1"});
+    EXPECT_NE(pose.find("pose="), std::string::npos) << robot << ": " << pose;
   }
+  request({"req", host, "simulation:0", "speed", "0"});
+  request({"req", host, "simulation:0", "resume"});
+  EXPECT_EQ(sim.wait_exit(kRunMs), 0) << sim.err();
+  // Robots crossed the cut (the regions stay where they were drawn).
+  EXPECT_GT(migrations(sim.err()), 0) << sim.err();
 }
 
 }  // namespace

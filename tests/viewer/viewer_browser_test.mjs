@@ -11,9 +11,12 @@
 // simulator (or, under troupe-view, the node) is killed and restarted
 // behind it. In camera.world it checks that the selected robot's camera
 // image in the panel (PNG, decoded by the browser) has the pixels a wire
-// client reads raw. Screenshots are kept in the build tree.
+// client reads raw. Under mpirun (when troupe-sim was built with MPI) it
+// checks that the page draws every robot of a world divided between two
+// processes, where the world has them. Screenshots are kept in the build tree.
 //
 // usage: node viewer_browser_test.mjs --bin DIR --node PATH --modules DIR --source DIR --out DIR [--shared DIR]
+//        [--mpirun PATH]
 // Exit 0: passed, 1: failed, 77: skipped (no Chromium).
 import { spawn, execFile } from 'node:child_process';
 import { existsSync, mkdtempSync, writeFileSync, rmSync } from 'node:fs';
@@ -219,6 +222,56 @@ function frames(page, n = 3) {
   }), n);
 }
 
+// The world divided between two processes under mpirun: the page draws
+// every robot, each where the leader's ground truth has it, and robots
+// driven on both sides of the cut move on the page as they do in the world.
+async function dividedPage(browser) {
+  if (!args.mpirun) {
+    console.log('note: troupe-sim was built without MPI; the divided world part is skipped');
+    return;
+  }
+  // OpenMPI refuses root unless told twice (CI runs as root).
+  if (process.getuid() === 0) {
+    process.env.OMPI_ALLOW_RUN_AS_ROOT = '1';
+    process.env.OMPI_ALLOW_RUN_AS_ROOT_CONFIRM = '1';
+  }
+  const troupe = join(args.bin, 'troupe');
+  const sim = await start(args.mpirun,
+                          ['--oversubscribe', '-np', '2', join(args.bin, 'troupe-sim'),
+                           join(args.source, 'examples/worlds/swarm100.world'), '--no-ctrl', '--port', '0',
+                           '--view', '0', '--paused'],
+                          { port: /listening on [^\n]*:(\d+)\n/, url: /viewer at (\S+)\n/ });
+  const host = `127.0.0.1:${sim.port}`;
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('pageerror', (e) => check(false, 'divided: no error on the page', e.message));
+  await page.goto(sim.url);
+  await waitFor(page, () => window.troupeViewer?.ready);
+  const drawn = await page.evaluate(() => troupeViewer.robots().filter((n) => troupeViewer.pose(n) !== null));
+  check(drawn.length === 100, 'divided over 2 ranks: the page draws all 100 robots', `${drawn.length}`);
+
+  // b0 (x = -8.1) and b99 (x = 8.6) stand on either side of the cut at x = 0.
+  const truth = async (robot) => JSON.parse((await run(troupe, ['req', host, 'simulation:0', 'getpose', robot]))
+                                              .replace(/^[^{]*/, '')).pose;
+  const start0 = await truth('b0');
+  await run(troupe, ['cmd', host, 'b0/position2d:0', 'vel', '0.4', '0', '0']);
+  await run(troupe, ['cmd', host, 'b99/position2d:0', 'vel', '0.4', '0', '0.5']);
+  await run(troupe, ['req', host, 'simulation:0', 'step', '20']);
+  for (const robot of ['b0', 'b99']) {
+    const at = await truth(robot);
+    await waitFor(page, ([name, x, y]) => {
+      const p = troupeViewer.pose(name);
+      return p && Math.hypot(p.x - x, p.y - y) < 1e-3;
+    }, [robot, at.x, at.y]);
+    check(true, `divided: ${robot} is drawn where the world moved it`, JSON.stringify(at));
+  }
+  const moved = await truth('b0');
+  check(Math.hypot(moved.x - start0.x, moved.y - start0.y) > 0.2, 'divided: b0 drove', 
+        `${JSON.stringify(start0)} -> ${JSON.stringify(moved)}`);
+  await page.screenshot({ path: join(args.out, 'viewer-divided.png') });
+  await page.close();
+  sim.child.kill('SIGTERM');
+}
+
 async function blobsAndRestartPage(browser) {
   const world = join(args.source, 'tests/viewer/blobs.world');
   const simArgs = (viewPort) => [world, '--port', '0', '--view', String(viewPort)];
@@ -399,6 +452,7 @@ const browser = await chromium.launch({
 const scratch = mkdtempSync(join(tmpdir(), 'troupe-viewer-'));
 try {
   await simulatorPage(browser);
+  await dividedPage(browser);
   await blobsAndRestartPage(browser);
   await matchPage(browser);
   await cameraPage(browser);

@@ -37,6 +37,9 @@ struct Robot {
   std::unique_ptr<troupe::client::FiducialProxy> fiducial;
   troupe::examples::SwarmInputs in;
   troupe::examples::SwarmState state;
+  // When its ranger last delivered a scan: a robot that stopped answering
+  // (its connection or its simulator's process lost) shows at the end.
+  std::chrono::steady_clock::time_point heard;
 };
 
 double mean_distance(troupe::client::SimulationProxy& sim, const std::vector<Robot>& robots) {
@@ -162,6 +165,7 @@ int main(int argc, char** argv) {
     // A decision whenever a robot's ranger has a new sample.
     for (Robot& r : robots) {
       if (!r.ranger->fresh()) continue;
+      r.heard = std::chrono::steady_clock::now();
       r.in.ranges = r.ranger->ranges();
       r.in.neighbours.clear();
       if (r.fiducial) {
@@ -172,10 +176,13 @@ int main(int argc, char** argv) {
       ++decisions;
     }
   }
+  size_t answering = 0;
+  for (const Robot& r : robots) answering += end - r.heard <= std::chrono::seconds(1) ? 1 : 0;
   for (Robot& r : robots) r.base->set_velocity(0, 0, 0);
   for (Robot& r : robots) r.client->sync();
   const double after = mean_distance(sim, robots);
   std::printf("%zu decisions; mean distance at the end %.2f m (%s)\n", decisions, after,
               params.aggregate ? "aggregate" : "disperse");
+  std::printf("%zu of %zu robots answered in the last second\n", answering, robots.size());
   return before < 0 || after < 0 ? 1 : 0;
 }
