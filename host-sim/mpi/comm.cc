@@ -66,7 +66,8 @@ Comm::~Comm() {
 
 void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
   Timed t(seconds_);
-  std::vector<int> send_counts(static_cast<size_t>(size_)), recv_counts(static_cast<size_t>(size_)), send_displs, recv_displs;
+  std::vector<int> send_counts(static_cast<size_t>(size_)), recv_counts(static_cast<size_t>(size_)),
+      send_displs, recv_displs;
   for (int r = 0; r < size_; ++r) {
     // Its own share stays here: the caller keeps what it sends itself.
     send_counts[size_t(r)] = r == rank_ ? 0 : checked_count(send[size_t(r)].size());
@@ -75,7 +76,10 @@ void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
       ++messages_sent_;
     }
   }
-  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  {
+    Timed w(wait_seconds_);
+    MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  }
   const int send_total = offsets(send_counts, send_displs);
   const int recv_total = offsets(recv_counts, recv_displs);
   std::vector<std::byte> out(size_t(send_total) + 1), in(size_t(recv_total) + 1);
@@ -92,7 +96,10 @@ void Comm::all_gather(const Bytes& mine, std::vector<Bytes>& all) {
   Timed t(seconds_);
   const int count = checked_count(mine.size());
   std::vector<int> counts(static_cast<size_t>(size_)), displs;
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  {
+    Timed w(wait_seconds_);
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  }
   const int total = offsets(counts, displs);
   std::vector<std::byte> flat(size_t(total) + 1);
   MPI_Allgatherv(mine.data(), count, MPI_BYTE, flat.data(), counts.data(), displs.data(), MPI_BYTE,
@@ -106,7 +113,10 @@ void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
   Timed t(seconds_);
   const int count = checked_count(mine.size());
   std::vector<int> counts(static_cast<size_t>(size_)), displs;
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  {
+    Timed w(wait_seconds_);
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  }
   std::vector<std::byte> flat;
   if (rank_ == 0) flat.resize(size_t(offsets(counts, displs)) + 1);
   MPI_Gatherv(mine.data(), count, MPI_BYTE, flat.data(), counts.data(), displs.data(), MPI_BYTE, 0,
@@ -123,15 +133,18 @@ void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
 void Comm::broadcast(Bytes& bytes) {
   Timed t(seconds_);
   uint64_t size = bytes.size();
-  MPI_Request request;
-  MPI_Ibcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
-  int done = 0;
-  MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-  while (!done) {
-    // A leader that steps answers within a step; one that is paused or
-    // serving may take seconds. 0.1 ms is well below a step's time.
-    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  {
+    Timed w(wait_seconds_);  // the size's broadcast: the followers wait for the leader here
+    MPI_Request request;
+    MPI_Ibcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
+    int done = 0;
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    while (!done) {
+      // A leader that steps answers within a step; one that is paused or
+      // serving may take seconds. 0.1 ms is well below a step's time.
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    }
   }
   if (rank_ != 0) bytes.resize(size);
   if (rank_ == 0) {
@@ -142,7 +155,7 @@ void Comm::broadcast(Bytes& bytes) {
 }
 
 bool Comm::any(bool mine) {
-  Timed t(seconds_);
+  Timed t(seconds_), w(wait_seconds_);  // one int: all of it is waiting
   int in = mine ? 1 : 0, out = 0;
   MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return out != 0;

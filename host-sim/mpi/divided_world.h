@@ -84,7 +84,8 @@ class DividedWorld final : public Division {
   uint64_t migrations_ = 0;  // robots this rank handed over
   uint64_t rebalances_ = 0;
   uint64_t map_builds_ = 0;
-  double started_s_ = 0;  // wall clock when made, s
+  double started_s_ = 0;         // wall clock when start() ended (the world loaded), s
+  uint64_t started_cpu_ns_ = 0;  // this process's CPU time then, ns
 };
 
 }  // namespace troupe::sim::mpi

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "host-sim/sim/profile.h"
 #include "host-sim/sim/snapshot.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
@@ -31,12 +32,14 @@ uint64_t sim_clock_us(void* ctx) {
 bool starts_paused(const SimOptions& options, const WorldDesc& d) {
   if (!d.paused) return false;
   if (!options.serve) {
-    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs", d.paused_at.c_str());
+    log_info("%s: the world says paused; a headless run (--no-serve) ignores it and runs",
+             d.paused_at.c_str());
     return false;
   }
   const std::string port = options.port == 0 ? "PORT" : std::to_string(options.port);
-  log_info("%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
-           d.paused_at.c_str(), options.listen.c_str(), port.c_str());
+  log_info(
+      "%s: the world starts paused; resume it with `troupe req %s:%s simulation:0 resume` or from the viewer",
+      d.paused_at.c_str(), options.listen.c_str(), port.c_str());
   return true;
 }
 
@@ -95,14 +98,19 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     options.secure.apply(no);
     auto node = std::make_unique<Node>(no);
     node->set_clock(sim_clock_us, world_.get());
-    auto server = std::make_unique<SimServer>(*world_, control_, i);
-    SimServer* raw = server.get();
-    if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
+    // A run that serves nothing (--no-serve) registers no devices: none
+    // could be read, and its robots need no wire address, so worlds beyond
+    // the 16-bit robot numbers run too. Its node only keeps the loop.
+    if (options.serve) {
+      auto server = std::make_unique<SimServer>(*world_, control_, i);
+      SimServer* raw = server.get();
+      if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
+      servers_.push_back(raw);
+    }
     if (serves && !node->start(error)) {
       error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
       return false;
     }
-    servers_.push_back(raw);
     nodes_.push_back(std::move(node));
     if (!serves) break;
   }
@@ -332,8 +340,13 @@ int Runner::run() {
     run_step_slice();
     return true;
   };
+  // The run's own time, without loading the world, for --profile's last line.
+  const double start_sim_s = world_->time();
+  const uint64_t start_steps = world_->steps(), start_ns = now_ns(), start_cpu_ns = process_cpu_ns();
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
   if (division_) division_->sync(*world_, Division::Order::Stop);
+  const double run_wall_s = double(now_ns() - start_ns) * 1e-9,
+               run_cpu_s = double(process_cpu_ns() - start_cpu_ns) * 1e-9;
   progress(true);
   if (quit_time_reached()) {
     char why[96];
@@ -360,6 +373,11 @@ int Runner::run() {
     // Every process takes part in the division's report; the first prints.
     const std::string divided = division_ ? division_->report(*world_) : "";
     std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
+    // One line for scripts (tests/bench/sim/mpi_scaling reads it). CPU is
+    // this process's; a divided run's other processes are in the table.
+    std::fprintf(stderr, "run: %llu steps, %.3f simulated s, %.3f wall s, %.3f CPU s\n",
+                 static_cast<unsigned long long>(world_->steps() - start_steps), world_->time() - start_sim_s,
+                 run_wall_s, run_cpu_s);
   }
   return 0;
 }
