@@ -80,11 +80,12 @@ bool parse_profile(const std::string& err, bool divided, Run& run) {
     }
     if (!in_table) continue;
     int rank = 0;
-    unsigned long long migrated = 0;
+    unsigned long long migrated = 0, map_builds = 0;
+    double world_mb = 0;
     RankRow r;
-    if (std::sscanf(line.c_str(), "%d %d %lf %lf %llu %lf %lf %lf %lf", &rank, &r.robots, &r.bytes_per_step,
-                    &r.messages_per_step, &migrated, &r.exchanging_s, &r.waiting_s, &r.other_s,
-                    &r.cpu_s) == 9) {
+    if (std::sscanf(line.c_str(), "%d %d %lf %lf %llu %lf %lf %lf %llu %lf %lf", &rank, &r.robots,
+                    &r.bytes_per_step, &r.messages_per_step, &migrated, &r.exchanging_s, &r.other_s,
+                    &world_mb, &map_builds, &r.waiting_s, &r.cpu_s) == 11) {
       run.ranks.push_back(r);
     } else {
       in_table = false;
