@@ -5,21 +5,34 @@
 #include <chrono>
 #include <climits>
 #include <cstdlib>
+#include <ctime>
 #include <stdexcept>
 #include <thread>
 
 namespace troupe::sim::mpi {
 namespace {
 
-// Times one MPI call into the total.
+// Times one MPI call into the total (wall s), and into `cpu` (this
+// thread's CPU s: OpenMPI polls while it waits) when given.
 class Timed {
  public:
-  explicit Timed(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
-  ~Timed() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  explicit Timed(double& total, double* cpu = nullptr)
+      : total_(total), cpu_(cpu), start_(std::chrono::steady_clock::now()), start_cpu_(thread_cpu_s()) {}
+  ~Timed() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (cpu_) *cpu_ += thread_cpu_s() - start_cpu_;
+  }
 
  private:
+  static double thread_cpu_s() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
+  }
   double& total_;
+  double* cpu_;
   std::chrono::steady_clock::time_point start_;
+  double start_cpu_;
 };
 
 int checked_count(size_t n) {
@@ -65,7 +78,7 @@ Comm::~Comm() {
 }
 
 void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   std::vector<int> send_counts(static_cast<size_t>(size_)), recv_counts(static_cast<size_t>(size_)),
       send_displs, recv_displs;
   for (int r = 0; r < size_; ++r) {
@@ -93,7 +106,7 @@ void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
 }
 
 void Comm::all_gather(const Bytes& mine, std::vector<Bytes>& all) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   const int count = checked_count(mine.size());
   std::vector<int> counts(static_cast<size_t>(size_)), displs;
   {
@@ -110,7 +123,7 @@ void Comm::all_gather(const Bytes& mine, std::vector<Bytes>& all) {
 }
 
 void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   const int count = checked_count(mine.size());
   std::vector<int> counts(static_cast<size_t>(size_)), displs;
   {
@@ -131,7 +144,7 @@ void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
 }
 
 void Comm::broadcast(Bytes& bytes) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   uint64_t size = bytes.size();
   {
     Timed w(wait_seconds_);  // the size's broadcast: the followers wait for the leader here
@@ -155,7 +168,7 @@ void Comm::broadcast(Bytes& bytes) {
 }
 
 bool Comm::any(bool mine) {
-  Timed t(seconds_), w(wait_seconds_);  // one int: all of it is waiting
+  Timed t(seconds_, &cpu_seconds_), w(wait_seconds_);  // one int: all of it is waiting
   int in = mine ? 1 : 0, out = 0;
   MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return out != 0;

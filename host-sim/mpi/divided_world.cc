@@ -54,6 +54,7 @@ bool DividedWorld::start(World& world, std::string& error) {
   started_messages_ = comm_.messages_sent();
   started_comm_s_ = comm_.seconds();
   started_wait_s_ = comm_.wait_seconds();
+  started_mpi_cpu_s_ = comm_.cpu_seconds();
   return true;
 }
 
@@ -284,7 +285,7 @@ bool DividedWorld::gather_poses(const World& world, std::vector<Pose>& poses) {
 std::string DividedWorld::report(const World& world) {
   struct Row {
     uint64_t robots, bytes, messages, migrations, world_bytes, map_builds;
-    double comm_s, wait_s, wall_s, cpu_s;
+    double comm_s, wait_s, wall_s, cpu_s, mpi_cpu_s;
   };
   const Row mine{owned_.size(),
                  comm_.bytes_sent() - started_bytes_,
@@ -295,22 +296,25 @@ std::string DividedWorld::report(const World& world) {
                  comm_.seconds() - started_comm_s_,
                  comm_.wait_seconds() - started_wait_s_,
                  wall_s() - started_s_,
-                 double(process_cpu_ns() - started_cpu_ns_) * 1e-9};
+                 double(process_cpu_ns() - started_cpu_ns_) * 1e-9,
+                 comm_.cpu_seconds() - started_mpi_cpu_s_};
   Bytes b;
   put(b, mine);
   std::vector<Bytes> all;
   comm_.gather(b, all);
   if (!first()) return "";
   const double steps = double(std::max<uint64_t>(steps_, 1));
-  // Waiting s (part of exchanging s) and CPU s come last, so readers of
-  // the older columns read them where they were.
+  // Waiting s (part of exchanging s), CPU s and the part of it in MPI
+  // come last, so readers of the older columns read them where they were.
+  // CPU s less MPI CPU s is the rank's own work, whatever the machine's
+  // load.
   std::string out;
   char line[320];
   std::snprintf(
       line, sizeof line,
       "%d ranks (%d x %d tiles), halo %.2f m, %llu steps, regions redrawn %llu times\n"
       "rank  robots  bytes/step  messages/step  migrated  exchanging s  other s  world MB  map builds  "
-      "waiting s  CPU s\n",
+      "waiting s  CPU s  MPI CPU s\n",
       tiles_.ranks(), tiles_.cols(), tiles_.rows(), halo_, static_cast<unsigned long long>(steps_),
       static_cast<unsigned long long>(rebalances_));
   out += line;
@@ -319,11 +323,11 @@ std::string DividedWorld::report(const World& world) {
     std::span<const std::byte> in(all[r]);
     if (!get(in, row)) continue;
     std::snprintf(line, sizeof line,
-                  "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f  %8.1f  %10llu  %9.3f  %5.2f\n", r,
-                  static_cast<unsigned long long>(row.robots), double(row.bytes) / steps,
+                  "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f  %8.1f  %10llu  %9.3f  %5.2f  %9.2f\n",
+                  r, static_cast<unsigned long long>(row.robots), double(row.bytes) / steps,
                   double(row.messages) / steps, static_cast<unsigned long long>(row.migrations), row.comm_s,
                   row.wall_s - row.comm_s, double(row.world_bytes) / 1e6,
-                  static_cast<unsigned long long>(row.map_builds), row.wait_s, row.cpu_s);
+                  static_cast<unsigned long long>(row.map_builds), row.wait_s, row.cpu_s, row.mpi_cpu_s);
     out += line;
   }
   return out;

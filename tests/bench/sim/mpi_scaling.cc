@@ -41,16 +41,24 @@ struct Config {
 // messages; over the run: s).
 struct RankRow {
   int robots = 0;
-  double bytes_per_step = 0, messages_per_step = 0, exchanging_s = 0, waiting_s = 0, other_s = 0, cpu_s = 0;
+  double bytes_per_step = 0, messages_per_step = 0, exchanging_s = 0, waiting_s = 0, other_s = 0, cpu_s = 0,
+         mpi_cpu_s = 0;
+  // CPU s of the rank's own work: what it would take on a core of its own.
+  double work_cpu_s() const { return cpu_s - mpi_cpu_s; }
 };
 
 // One run's figures: simulated s, wall s and CPU s (every rank) of the
-// stepping, and the division's table when divided.
+// stepping, the slowest rank's own work (CPU s outside MPI), and the
+// division's table when divided.
 struct Run {
-  double sim_s = 0, wall_s = 0, cpu_s = 0, load = 0;
+  double sim_s = 0, wall_s = 0, cpu_s = 0, slowest_work_s = 0, load = 0;
   std::vector<RankRow> ranks;
   double per_wall() const { return wall_s > 0 ? sim_s / wall_s : 0; }
   double per_cpu() const { return cpu_s > 0 ? sim_s / cpu_s : 0; }
+  // Simulated s per CPU s of the slowest rank's work: the speed with a core
+  // for each rank and no time to move bytes, which this shared machine's
+  // load does not change.
+  double per_work() const { return slowest_work_s > 0 ? sim_s / slowest_work_s : 0; }
 };
 
 double load_now() {
@@ -83,18 +91,23 @@ bool parse_profile(const std::string& err, bool divided, Run& run) {
     unsigned long long migrated = 0, map_builds = 0;
     double world_mb = 0;
     RankRow r;
-    if (std::sscanf(line.c_str(), "%d %d %lf %lf %llu %lf %lf %lf %llu %lf %lf", &rank, &r.robots,
+    if (std::sscanf(line.c_str(), "%d %d %lf %lf %llu %lf %lf %lf %llu %lf %lf %lf", &rank, &r.robots,
                     &r.bytes_per_step, &r.messages_per_step, &migrated, &r.exchanging_s, &r.other_s,
-                    &world_mb, &map_builds, &r.waiting_s, &r.cpu_s) == 11) {
+                    &world_mb, &map_builds, &r.waiting_s, &r.cpu_s, &r.mpi_cpu_s) == 12) {
       run.ranks.push_back(r);
     } else {
       in_table = false;
     }
   }
   // A divided run's CPU is every rank's, not the leader's alone.
+  run.slowest_work_s = run.cpu_s;
   if (divided && !run.ranks.empty()) {
     run.cpu_s = 0;
-    for (const RankRow& r : run.ranks) run.cpu_s += r.cpu_s;
+    run.slowest_work_s = 0;
+    for (const RankRow& r : run.ranks) {
+      run.cpu_s += r.cpu_s;
+      run.slowest_work_s = std::max(run.slowest_work_s, r.work_cpu_s());
+    }
   }
   return have_run && (!divided || !run.ranks.empty());
 }
@@ -150,8 +163,9 @@ bool measure(const std::string& dir, const std::vector<Config>& configs, int rep
     for (size_t i = 0; i < configs.size(); ++i) {
       Run r;
       if (!run_once(dir, configs[i], sim_seconds, r)) return false;
-      std::fprintf(stderr, "  %d robots, %s: %.2f sim s/wall s, %.2f sim s/CPU s, load %.1f\n",
-                   configs[i].robots, label(configs[i]).c_str(), r.per_wall(), r.per_cpu(), r.load);
+      std::fprintf(
+          stderr, "  %d robots, %s: %.2f sim s/wall s, %.2f sim s/CPU s, %.2f sim s/work s, load %.1f\n",
+          configs[i].robots, label(configs[i]).c_str(), r.per_wall(), r.per_cpu(), r.per_work(), r.load);
       runs[i].push_back(r);
     }
   }
@@ -169,48 +183,53 @@ const Run& median_run(const std::vector<Run>& runs) {
 }
 
 // The table: one row per configuration; speed-up and efficiency against
-// `base` (the configuration index), weak scaling (work grows with the
-// ranks) when `weak`.
+// `base` (the configuration index), by wall clock and by the slowest rank's
+// work; for weak scaling (work grows with the ranks) against robot-steps
+// per s.
 void print_table(const char* title, const std::vector<Config>& configs,
                  const std::vector<std::vector<Run>>& runs, size_t base, bool weak) {
   std::printf("\n%s\n", title);
-  std::printf("%-22s %7s %11s %11s %9s %10s %10s %8s\n", "processes", "robots", "sim s/wall", "sim s/CPU",
-              weak ? "robots x" : "speed-up", "efficiency", "runs", "load");
-  std::vector<double> wall(configs.size());
-  for (size_t i = 0; i < configs.size(); ++i) {
-    std::vector<double> w;
-    for (const Run& r : runs[i]) w.push_back(r.per_wall());
-    wall[i] = median(w);
-  }
-  for (size_t i = 0; i < configs.size(); ++i) {
-    std::vector<double> cpu, load;
-    for (const Run& r : runs[i]) {
-      cpu.push_back(r.per_cpu());
-      load.push_back(r.load);
+  std::printf("%-22s %7s %11s %11s %11s %9s %9s %9s %5s %6s\n", "processes", "robots", "sim s/wall",
+              "sim s/CPU", "sim s/work", "x wall", "x work", "eff work", "runs", "load");
+  auto medians = [&](double (Run::*f)() const) {
+    std::vector<double> out(configs.size());
+    for (size_t i = 0; i < configs.size(); ++i) {
+      std::vector<double> v;
+      for (const Run& r : runs[i]) v.push_back((r.*f)());
+      out[i] = median(v);
     }
+    return out;
+  };
+  const std::vector<double> wall = medians(&Run::per_wall), cpu = medians(&Run::per_cpu),
+                            work = medians(&Run::per_work);
+  for (size_t i = 0; i < configs.size(); ++i) {
+    std::vector<double> load;
+    for (const Run& r : runs[i]) load.push_back(r.load);
     const int ranks = std::max(configs[i].ranks, 1);
-    // Weak: robots stepped per wall s against the baseline's; strong: the
-    // same world's speed.
-    const double work = weak ? double(configs[i].robots) / configs[base].robots : 1.0;
-    const double speedup = wall[base] > 0 ? wall[i] * work / wall[base] : 0;
-    std::printf("%-22s %7d %11.2f %11.2f %8.2fx %9.0f%% %10zu %8.1f\n", label(configs[i]).c_str(),
-                configs[i].robots, wall[i], median(cpu), speedup, 100.0 * speedup / ranks, runs[i].size(),
-                median(load));
+    // Weak: robots stepped per s against the baseline's; strong: the same
+    // world's speed.
+    const double more = weak ? double(configs[i].robots) / configs[base].robots : 1.0;
+    const double x_wall = wall[base] > 0 ? wall[i] * more / wall[base] : 0;
+    const double x_work = work[base] > 0 ? work[i] * more / work[base] : 0;
+    std::printf("%-22s %7d %11.2f %11.2f %11.2f %8.2fx %8.2fx %8.0f%% %5zu %6.1f\n",
+                label(configs[i]).c_str(), configs[i].robots, wall[i], cpu[i], work[i], x_wall, x_work,
+                100.0 * x_work / ranks, runs[i].size(), median(load));
   }
-  std::printf("%-22s %7s %11s %11s %9s %10s\n", "", "", "median", "median", "", "per rank");
+  std::printf("(medians; work: CPU s outside MPI of the slowest rank; x: %s against the first row)\n",
+              weak ? "robot-steps per s" : "speed");
   std::printf("\nper step and rank (the median run of each divided configuration; s over the whole run)\n");
-  std::printf("%-22s %4s %7s %10s %9s %12s %9s %8s %7s %9s\n", "processes", "rank", "robots", "bytes/step",
-              "msgs/step", "exchanging s", "waiting s", "other s", "CPU s", "MPI share");
+  std::printf("%-22s %4s %7s %10s %9s %12s %9s %8s %7s %9s %10s\n", "processes", "rank", "robots",
+              "bytes/step", "msgs/step", "exchanging s", "waiting s", "other s", "CPU s", "MPI CPU s",
+              "work CPU s");
   for (size_t i = 0; i < configs.size(); ++i) {
     if (configs[i].ranks == 0) continue;
     const Run& r = median_run(runs[i]);
     for (size_t k = 0; k < r.ranks.size(); ++k) {
       const RankRow& row = r.ranks[k];
-      const double total = row.exchanging_s + row.other_s;
-      std::printf("%-22s %4zu %7d %10.0f %9.1f %12.3f %9.3f %8.3f %7.2f %8.1f%%\n",
+      std::printf("%-22s %4zu %7d %10.0f %9.1f %12.3f %9.3f %8.3f %7.2f %9.2f %10.2f\n",
                   k == 0 ? label(configs[i]).c_str() : "", k, row.robots, row.bytes_per_step,
                   row.messages_per_step, row.exchanging_s, row.waiting_s, row.other_s, row.cpu_s,
-                  total > 0 ? 100.0 * row.exchanging_s / total : 0);
+                  row.mpi_cpu_s, row.work_cpu_s());
     }
   }
 }
