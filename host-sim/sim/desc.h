@@ -219,6 +219,43 @@ struct GripperDesc {
   bool closed = false;
 };
 
+/// A kicker on a robot (rigid worlds only): a plate that, fired, sends a
+/// ball or puck touching it away (sim/kicker.h; RoboCup's kick rule,
+/// robocup/physics/kick.h). Its world-file keys are those of a RoboCup kick
+/// state: `accel`, `contact`, `hold`, and the kicker's `reach`.
+struct KickerDesc {
+  /// The plate's centre and heading, robot frame: m, m, rad. A kick goes
+  /// along the heading.
+  Pose pose;
+  /// The plate's footprint (m, along and across the heading) and height
+  /// (m, from the floor; 0: unbounded).
+  Vec2 size{0.03, 0.3};
+  double height = 0.1;
+  /// What a kick gives a touching ball: accel (m/s^2) over contact (s).
+  double accel = 250, contact = 0.02;
+  /// A ball within this gap of the plate counts as touching it, m.
+  double reach = 0.03;
+  /// After a kick the kicker recovers for this long before the next, s.
+  double hold = 0.3;
+};
+
+/// A ball (rigid worlds only): a movable round body that rolls to rest,
+/// for robots to push and kick. World-file model `ball`; a RoboCup match's
+/// ball is one too.
+struct BallDesc {
+  std::string name = "ball";
+  /// m, kg.
+  double radius = 0.11, mass = 0.43;
+  /// Rolling friction on the floor, m/s^2.
+  double deceleration = 0.4;
+  /// Where it starts, world: m, m, rad.
+  Pose pose;
+  /// 0x00RRGGBB.
+  uint32_t color = 0xFF8000;
+  /// The owner's label for its rigid body (RigidDesc::user_data).
+  uint64_t user_data = 0;
+};
+
 /// A robot's own rigid body in a rigid world (WorldDesc::physics), for what
 /// outline polygons and Stage keys cannot say: a RoboCup robot, a ball.
 struct RigidDesc {
@@ -280,6 +317,8 @@ struct RobotDesc {
   std::vector<BumperDesc> bumpers;
   std::vector<CameraDesc> cameras;
   std::vector<GripperDesc> grippers;
+  /// Rigid worlds only.
+  std::vector<KickerDesc> kickers;
   /// Rigid worlds: the body's own shapes and mass properties. Absent: the
   /// outline polygons, `mass`, driven unless a puck (pucks slide to rest).
   std::optional<RigidDesc> rigid;

@@ -2,6 +2,7 @@
 // body outline and lists of sensors with poses in the robot's frame.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "host-sim/sim/loader.h"
 #include "host-sim/sim/loader_internal.h"
@@ -141,6 +142,17 @@ void Loader::robot_part(const Entity& e, const Pose& parent, RobotDesc& r) {
       // outline, or a puck between them would block the robot.
       gripper(e, c, at, r);
       break;
+    case ModelKind::Kicker:
+      // Its plate is part of the robot's body, as a RoboCup kicker's at
+      // rest: the robot pushes the ball with it, and a ball resting on it
+      // is the one a kick sends away.
+      kicker(e, c, at, r);
+      default_block = true;
+      break;
+    case ModelKind::Ball:
+      diags().warn(e.loc, "a ball inside a model is ignored; a ball is a top-level model");
+      for (const Property& p : e.properties) p.used = true;
+      return;
     case ModelKind::Sensor:
       diags().warn(e.loc, "a sensor( ... ) belongs inside a ranger; ignored");
       for (const Property& p : e.properties) p.used = true;
@@ -423,6 +435,39 @@ void Loader::gripper(const Entity& e, const ModelCommon& c, const Pose& at, Robo
   }
   for (const char* key : {"paddle_size", "autosnatch"}) e.find(key);
   r.grippers.push_back(g);
+}
+
+void Loader::kicker(const Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r) {
+  if (!needs_rigid(e, "a kicker")) return;
+  KickerDesc k;
+  k.pose = at;
+  k.size = c.size;
+  k.height = c.look.height;
+  // Bounds as a RoboCup kicker's: a kick state's accel, contact and hold,
+  // the kicker's reach.
+  struct Key {
+    const char* name;
+    double* value;
+    double min, max;
+    const char* unit;
+  };
+  const Key keys[] = {{"accel", &k.accel, 0, 1e5, "m/s^2"},
+                      {"contact", &k.contact, 0, 1, "s"},
+                      {"reach", &k.reach, 0, 1, "m"},
+                      {"hold", &k.hold, 0, 60, "s"}};
+  for (const Key& key : keys) {
+    // reach is a length (the world's unit_length applies); the rest are not.
+    const double v =
+        key.name[0] == 'r' ? read_.length(e, key.name, *key.value) : read_.number(e, key.name, *key.value);
+    if (v >= key.min && v <= key.max) {
+      *key.value = v;
+    } else {
+      char bounds[64];
+      std::snprintf(bounds, sizeof bounds, " must be in [%g, %g] ", key.min, key.max);
+      diags().error(e.find(key.name)->loc, std::string("a kicker's ") + key.name + bounds + key.unit);
+    }
+  }
+  r.kickers.push_back(k);
 }
 
 }  // namespace troupe::sim

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "host-sim/sim/ball.h"
 #include "host-sim/sim/loader_internal.h"
 #include "host-sim/sim/static_map.h"
 #include "host-sim/world/png_image.h"
@@ -34,6 +35,8 @@ constexpr TypeEntry kTypes[] = {
     {"window", ModelKind::Window},
     {"camera", ModelKind::Camera},
     {"gripper", ModelKind::Gripper},
+    {"kicker", ModelKind::Kicker},
+    {"ball", ModelKind::Ball},
     {"actuator", ModelKind::NotSimulated},
     {"blinkenlight", ModelKind::NotSimulated},
     {"lightindicator", ModelKind::NotSimulated},
@@ -80,8 +83,19 @@ bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model
   return loader.robot_sensors(model, out);
 }
 
-bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags) {
+bool load_ball(const world::WorldFile& file, const world::Entity& model, BallDesc& out,
+               world::Diagnostics& diags) {
   Loader loader(file, diags);
+  return loader.ball_keys(model, out);
+}
+
+bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags) {
+  return load_world(file, out, diags, nullptr);
+}
+
+bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags,
+                ModelHandoff* handoff) {
+  Loader loader(file, diags, handoff);
   return loader.run(out);
 }
 
@@ -98,8 +112,10 @@ bool Loader::run(WorldDesc& out) {
   robots_ =
       size_t(std::count_if(out.robots.begin(), out.robots.end(), [](const RobotDesc& o) { return !o.puck; }));
   world_properties(w, out);
+  physics_ = out.physics;
   std::map<std::string, world::SourceLoc> names;
   for (const Entity& e : w.children) {
+    if (handoff_ && handoff_->take(e)) continue;
     const ModelKind kind = model_kind(e.type);
     switch (kind) {
       case ModelKind::Window:
@@ -107,6 +123,9 @@ bool Loader::run(WorldDesc& out) {
         continue;
       case ModelKind::Position:
         robot(e, out);
+        break;
+      case ModelKind::Ball:
+        ball(e, out);
         break;
       case ModelKind::Model:
         if (read_.flag(e, "gripper_return", false)) {
@@ -137,6 +156,7 @@ bool Loader::run(WorldDesc& out) {
         diags().warn(name->loc, "a model is already named '" + it->first + "' at " + it->second.str());
     }
   }
+  if (handoff_) handoff_->finish(file_, diags());
   check_grid_size(w, out);
   file_.warn_unused(diags());
   return diags().error_count() == errors_before;
@@ -328,6 +348,51 @@ void Loader::puck(const Entity& e, WorldDesc& out) {
     for (const Property& p : child.properties) p.used = true;
   }
   out.robots.push_back(std::move(r));
+}
+
+bool Loader::needs_rigid(const Entity& e, const char* what) {
+  if (physics_ == Physics::Rigid) return true;
+  diags().error(e.loc, std::string(what) +
+                           " needs physics \"rigid\" (at the top of the world file): in Stage's kinematic "
+                           "world nothing can be pushed or kicked");
+  for (const Property& p : e.properties) p.used = true;
+  return false;
+}
+
+void Loader::ball(const Entity& e, WorldDesc& out) {
+  if (!needs_rigid(e, "a ball")) return;
+  BallDesc b;
+  if (e.find("name") == nullptr && balls_++ > 0) b.name = "ball" + std::to_string(balls_ - 1);
+  ball_keys(e, b);
+  out.robots.push_back(ball_robot(b));
+}
+
+bool Loader::ball_keys(const Entity& e, BallDesc& b) {
+  const size_t errors_before = diags().error_count();
+  read_.set_units(file_.root());
+  if (auto n = read_.string(e, "name")) b.name = *n;
+  b.pose = read_.pose(e, "pose", b.pose);
+  if (auto col = read_.color(e)) b.color = *col;
+  b.radius = read_.length(e, "radius", b.radius);
+  b.mass = read_.number(e, "mass", b.mass);
+  b.deceleration = read_.number(e, "deceleration", b.deceleration);
+  if (!(b.radius >= 0.01 && b.radius <= 1)) {
+    diags().error(e.find("radius")->loc, "a ball's radius must be in [0.01, 1] m");
+    b.radius = 0.11;
+  }
+  if (!(b.mass >= 0.001 && b.mass <= 100)) {
+    diags().error(e.find("mass")->loc, "a ball's mass must be in [0.001, 100] kg");
+    b.mass = 0.43;
+  }
+  if (!(b.deceleration >= 0 && b.deceleration <= 100)) {
+    diags().error(e.find("deceleration")->loc, "a ball's deceleration must be in [0, 100] m/s^2");
+    b.deceleration = 0.4;
+  }
+  for (const Entity& child : e.children) {
+    diags().warn(child.loc, "a " + child.type + " on a ball is not simulated");
+    for (const Property& p : child.properties) p.used = true;
+  }
+  return diags().error_count() == errors_before;
 }
 
 void Loader::check_grid_size(const Entity& w, const WorldDesc& out) {

@@ -24,10 +24,27 @@
 
 namespace troupe::sim {
 
+/// Top-level models another layer reads: a RoboCup match's field, referee,
+/// ball and robots go to the game layer (host-sim/robocup/game/
+/// world_load.h, the one loader entry). The loader offers it every
+/// top-level model in file order and reads only those it does not take;
+/// at the end, before reporting unused keys, the handoff reads what it
+/// took (and the world's properties it needs), reporting to `diags`.
+class ModelHandoff {
+ public:
+  virtual ~ModelHandoff() = default;
+  /// True when the handoff takes `model` (it is then its to read).
+  virtual bool take(const world::Entity& model) = 0;
+  virtual void finish(const world::WorldFile& file, world::Diagnostics& diags) = 0;
+};
+
 /// Converts a parsed world file. Warnings (unknown keys, types Troupe does
 /// not simulate) and errors (wrong value kinds, missing bitmaps, a grid too
 /// large) go to `diags` with file:line. False when there were errors.
 bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags);
+/// The same, handing the models `handoff` takes over to it (null: none).
+bool load_world(const world::WorldFile& file, WorldDesc& out, world::Diagnostics& diags,
+                ModelHandoff* handoff);
 
 /// True for the Stage sensor models a robot carries (ranger, laser,
 /// blobfinder, fiducial, bumper, camera, gripper): what load_robot_sensors()
@@ -42,6 +59,13 @@ bool is_robot_sensor(const std::string& type);
 /// False when there were errors (in `diags`, file:line).
 bool load_robot_sensors(const world::WorldFile& file, const world::Entity& model, RobotDesc& out,
                         world::Diagnostics& diags);
+
+/// Reads a `ball` model's keys into `out` (sim/desc.h, BallDesc), as the
+/// loader reads a Stage world's ball: a RoboCup match's ball (read by the
+/// game layer's reader) reuses it. Unknown keys are left for the file's
+/// warn_unused. False when there were errors (in `diags`, file:line).
+bool load_ball(const world::WorldFile& file, const world::Entity& model, BallDesc& out,
+               world::Diagnostics& diags);
 
 /// Reads, parses and converts a world file.
 bool load_world_file(const std::string& path, WorldDesc& out, world::Diagnostics& diags);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "host-sim/sim/desc.h"
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/reader.h"
 #include "host-sim/world/worldfile.h"
 
@@ -22,6 +23,8 @@ enum class ModelKind {
   Bumper,
   Camera,
   Gripper,
+  Kicker,
+  Ball,
   Block,
   Window,
   NotSimulated,
@@ -42,10 +45,13 @@ struct ModelCommon {
 
 class Loader {
  public:
-  Loader(const world::WorldFile& file, world::Diagnostics& diags) : file_(file), read_(diags) {}
+  Loader(const world::WorldFile& file, world::Diagnostics& diags, ModelHandoff* handoff = nullptr)
+      : file_(file), read_(diags), handoff_(handoff) {}
   bool run(WorldDesc& out);
   /// load_robot_sensors().
   bool robot_sensors(const world::Entity& model, RobotDesc& out);
+  /// load_ball(): a ball's keys.
+  bool ball_keys(const world::Entity& e, BallDesc& b);
 
  private:
   world::Diagnostics& diags() { return read_.diags(); }
@@ -62,6 +68,8 @@ class Loader {
   /// A top-level model with `gripper_return 1`: a movable object.
   void puck(const world::Entity& e, WorldDesc& out);
   void check_grid_size(const world::Entity& w, const WorldDesc& out);
+  /// A top-level `ball`: a puck with a round rigid body (rigid worlds).
+  void ball(const world::Entity& e, WorldDesc& out);
 
   // load_robot.cc
   void robot(const world::Entity& e, WorldDesc& out);
@@ -73,6 +81,9 @@ class Loader {
   void bumper(const world::Entity& e, const Pose& at, RobotDesc& r);
   void camera(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
   void gripper(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  void kicker(const world::Entity& e, const ModelCommon& c, const Pose& at, RobotDesc& r);
+  /// False after an error at `e`: `what` needs physics "rigid".
+  bool needs_rigid(const world::Entity& e, const char* what);
   /// A camera's `mirror` keys; false after reporting a bad one.
   bool omni_mirror(const world::Entity& e, CameraDesc& d);
   void power(const world::Entity& e, RobotDesc& r);
@@ -83,7 +94,10 @@ class Loader {
   // named r<this>. Counted as they come, since counting them again for
   // each robot took most of a 100,000-robot world's load.
   size_t robots_ = 0;
+  ModelHandoff* handoff_;
   int pucks_ = 0;  // unnamed pucks so far, for their default names
+  int balls_ = 0;  // unnamed balls so far, likewise
+  Physics physics_ = Physics::Kinematic;  // the world's, read before its models
 };
 
 }  // namespace troupe::sim

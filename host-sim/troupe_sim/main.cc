@@ -3,9 +3,11 @@
 // Started as troupe-robocup (a symbolic link to it), it is
 // `troupe-sim --fast --no-serve`.
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
+#include "host-sim/robocup/game/world_load.h"
 #include "host-sim/troupe_sim/robocup_mode.h"
 #include "host-sim/troupe_sim/runner.h"
 #include "host-sim/viewer/view_server.h"
@@ -38,6 +40,13 @@ int main(int argc, char** argv) {
     division = divided.get();
     // One voice: the other processes say only what goes wrong.
     if (comm->rank() != 0) troupe::set_log_level(troupe::LogLevel::Warn);
+  }
+#else
+  // mpirun sets this in every process it starts.
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr) {
+    troupe::log_warn(
+        "this troupe-sim was built without MPI (-DTROUPE_MPI=OFF): every process mpirun "
+        "started runs the whole world on its own");
   }
 #endif
   std::string error;
@@ -111,13 +120,25 @@ int main(int argc, char** argv) {
     }
   };
 
-  if (troupe::sim::is_robocup_world(options.world)) {
+  // The one loader: a Stage world's description, or a match's game part.
+  troupe::robocup::LoadedWorld loaded;
+  troupe::world::Diagnostics diags;
+  const bool loaded_ok = troupe::robocup::load_any_world(options.world, loaded, diags);
+  // Warnings (unknown keys, ...) and errors, each with file:line: once,
+  // when every process of a divided run read the same file.
+  const bool speaks = !division || division->first();
+  if (speaks) {
+    for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
+  }
+  if (!loaded_ok) return 1;
+  if (loaded.game) {
     if (division) {
-      std::fprintf(stderr, "%s: a RoboCup match runs in one process; start it without mpirun\n", program);
+      if (speaks)
+        std::fprintf(stderr, "%s: a RoboCup match runs in one process; start it without mpirun\n", program);
       return 1;
     }
     troupe::sim::RobocupMode match;
-    if (!match.init(options, error)) {
+    if (!match.init(options, std::move(*loaded.game), error)) {
       std::fprintf(stderr, "%s: %s\n", program, error.c_str());
       return 1;
     }
@@ -139,11 +160,9 @@ int main(int argc, char** argv) {
   }
 
   troupe::sim::Runner runner;
-  troupe::world::Diagnostics diags;
-  const bool ok = runner.init(options, diags, error, division);
-  // Warnings (unknown keys, ...) and errors, each with file:line: once,
-  // when every process of a divided run read the same file.
-  if (!division || division->first()) {
+  diags = {};
+  const bool ok = runner.init(options, loaded.desc, diags, error, division);
+  if (speaks) {
     for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
   }
   if (!ok) {

@@ -8,6 +8,7 @@
 #include "wire/log.h"
 #include "wire/png.h"
 
+#include "host-sim/sim_control/kicker_state.h"
 #include "host-sim/troupe_sim/sim_server.h"
 
 namespace troupe::sim {
@@ -85,6 +86,9 @@ void SimServer::publish_one(const Device& d) {
       break;
     case Kind::Gripper:
       publish_gripper(d);
+      break;
+    case Kind::Kicker:
+      publish_kicker_state(*node_, d.id, kickers_.ready(d.index));
       break;
     case Kind::Camera:  // publish_camera(): it keeps state per device
       break;

@@ -11,16 +11,6 @@
 
 namespace troupe::sim {
 
-bool is_robocup_world(const std::string& path) {
-  world::WorldFile file;
-  world::Diagnostics diags;
-  if (!file.load(path, diags)) return false;
-  for (const world::Entity& e : file.root().children) {
-    if (e.type == "robocup_field" || e.type == "robocup_robot") return true;
-  }
-  return false;
-}
-
 const char* robocup_only_option(const SimOptions& options) {
   return !options.script.empty() ? "--script"
          : options.interactive   ? "--interactive"
@@ -28,7 +18,7 @@ const char* robocup_only_option(const SimOptions& options) {
                                  : nullptr;
 }
 
-bool RobocupMode::init(const SimOptions& options, std::string& error) {
+bool RobocupMode::init(const SimOptions& options, robocup::WorldSpec spec, std::string& error) {
   // What belongs to the Stage engine alone.
   const char* refused = !options.emulate.empty()      ? "--emulate"
                         : options.port_per_robot      ? "--port-per-robot"
@@ -42,8 +32,6 @@ bool RobocupMode::init(const SimOptions& options, std::string& error) {
     return false;
   }
   options_ = options;
-  robocup::WorldSpec spec;
-  if (!robocup::load_world_file(options.world, spec, error)) return false;
   if (options.seed_given) spec.seed = options.seed;
   const std::string folder = std::filesystem::path(options.world).parent_path().string();
   robocup::PluginLoader loader(plugin::search_path(options.plugin_path, folder));

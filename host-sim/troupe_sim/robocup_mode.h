@@ -20,21 +20,17 @@
 
 namespace troupe::sim {
 
-/// True when the world file holds RoboCup models; false (and the Stage
-/// engine loads it, with its own errors) for anything else, unreadable
-/// files included.
-bool is_robocup_world(const std::string& path);
-
 /// The first option given that only a RoboCup world takes (the console,
 /// --quiet), or null: a Stage world refuses it.
 const char* robocup_only_option(const SimOptions& options);
 
 class RobocupMode {
  public:
-  /// Loads the match and opens its server (none with a console). False
-  /// with `error`: a bad world file (file:line), an option a match does
-  /// not take, a port in use.
-  bool init(const SimOptions& options, std::string& error);
+  /// Builds the match `spec` (the game part of options.world, read by the
+  /// one loader: robocup/game/world_load.h) and opens its server (none
+  /// with a console). False with `error`: an option a match does not take,
+  /// a world the game layer cannot build, a port in use.
+  bool init(const SimOptions& options, robocup::WorldSpec spec, std::string& error);
   /// Runs the match to its end, then prints the final line on standard
   /// output. The exit status: 0, or 1 when the console's script cannot be
   /// read or one of its commands failed.

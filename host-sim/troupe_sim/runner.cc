@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "host-sim/sim/loader.h"
 #include "host-sim/sim/profile.h"
 #include "host-sim/sim/snapshot.h"
 #include "runtime/clock.h"
@@ -51,6 +52,13 @@ Runner::~Runner() {
 
 bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
                   Division* division) {
+  WorldDesc desc;
+  if (!load_world_file(options.world, desc, diags)) return false;
+  return init(options, desc, diags, error, division);
+}
+
+bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags,
+                  std::string& error, Division* division) {
   options_ = options;
   if (division) {
     // Devices presented as hardware live beside their robot's process.
@@ -63,8 +71,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
       return false;
     }
   }
-  world_ = World::load(options.world, options.seed, diags);
-  if (!world_) return false;
+  world_ = std::make_unique<World>(desc, Random(options.seed));
 
   ControllerHost::Options copts;
   copts.search_path =
@@ -88,6 +95,7 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   const int extra = options.port_per_robot ? int(world_->robot_count()) : 0;
   // In a divided run the leader alone serves, the whole world.
   const bool serves = options.serve && (!division || division->first());
+  bool serve_failed = false;
   for (int i = -1; i < extra; ++i) {
     Node::Options no;
     no.name = i < 0 ? "troupe-sim" : "troupe-sim/" + world_->robot(RobotId(i)).name;
@@ -101,27 +109,32 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
     // A run that serves nothing (--no-serve) registers no devices: none
     // could be read, and its robots need no wire address, so worlds beyond
     // the 16-bit robot numbers run too. Its node only keeps the loop.
+    SimServer* raw = nullptr;
     if (options.serve) {
       auto server = std::make_unique<SimServer>(*world_, control_, i);
-      SimServer* raw = server.get();
+      raw = server.get();
       if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
-      servers_.push_back(raw);
     }
     if (serves && !node->start(error)) {
       error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
-      return false;
+      // The other processes of a divided run learn it below.
+      if (!division) return false;
+      serve_failed = true;
+      break;
     }
+    if (raw) servers_.push_back(raw);
     nodes_.push_back(std::move(node));
     if (!serves) break;
   }
   // A divided run's log is written by its first process alone.
   const bool writes_log = !division || division->first();
-  const bool log_open = options.log.empty() || !writes_log || log_.open(options.log, error);
-  if (division && division->any(!log_open)) {
-    if (log_open) error = "another process of the run failed (its error is above)";
+  const bool ready = !serve_failed && (options.log.empty() || !writes_log || log_.open(options.log, error));
+  // One process failing stops them all, rather than leaving them waiting.
+  if (division && division->any(!ready)) {
+    if (ready) error = "another process of the run failed (its error is above)";
     return false;
   }
-  if (!log_open) return false;
+  if (!ready) return false;
   for (SimServer* s : servers_) s->sync_wanted();
   if (division && !division->start(*world_, error)) return false;
   division_ = division;
@@ -344,9 +357,12 @@ int Runner::run() {
   const double start_sim_s = world_->time();
   const uint64_t start_steps = world_->steps(), start_ns = now_ns(), start_cpu_ns = process_cpu_ns();
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
+  // The others stop and report (every process takes part in the table).
+  std::string divided;
   if (division_) division_->sync(*world_, Division::Order::Stop);
   const double run_wall_s = double(now_ns() - start_ns) * 1e-9,
                run_cpu_s = double(process_cpu_ns() - start_cpu_ns) * 1e-9;
+  if (division_ && options_.profile) divided = division_->report(*world_);
   progress(true);
   if (quit_time_reached()) {
     char why[96];
@@ -370,8 +386,6 @@ int Runner::run() {
     return 1;
   }
   if (options_.profile) {
-    // Every process takes part in the division's report; the first prints.
-    const std::string divided = division_ ? division_->report(*world_) : "";
     std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
     // One line for scripts (tests/bench/sim/mpi_scaling reads it). CPU is
     // this process's; a divided run's other processes are in the table.

@@ -36,6 +36,10 @@ class Runner {
   /// outlive the runner.
   bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
             Division* division = nullptr);
+  /// The same for options.world's description, already loaded (by the one
+  /// loader, host-sim/robocup/game/world_load.h).
+  bool init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags, std::string& error,
+            Division* division = nullptr);
   /// Runs until the quit time, request_stop(), or a fatal problem. Returns
   /// the process exit code: 0 when the run reached its quit time (however
   /// it got there, a client's Step included) or was asked to stop, 1 when
@@ -96,7 +100,7 @@ class Runner {
   uint64_t emulation_wall_us_ = 0;
   TrajectoryLog log_;
   Division* division_ = nullptr;
-  bool mirror_ = false;  // the leader's world gets every robot's state
+  bool mirror_ = false;         // the leader's world gets every robot's state
   std::vector<Pose> gathered_;  // every robot's pose, first process, divided runs
   double quit_time_ = 0;
   // simulation:0 Step requests, oldest first, run in slices between polls.

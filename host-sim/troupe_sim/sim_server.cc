@@ -20,7 +20,7 @@ SimServer::SimServer(World& world, SimControl& control, int only)
     : SimServer(world, control, Scope{only, 0, false, {}}) {}
 
 SimServer::SimServer(World& world, SimControl& control, Scope scope)
-    : world_(world), control_(control), scope_(std::move(scope)) {}
+    : world_(world), kickers_(world), control_(control), scope_(std::move(scope)) {}
 
 void SimServer::add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface,
                     uint16_t local) {
@@ -65,6 +65,11 @@ bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
     }
     for (uint32_t k = 0; k < info.grippers.count; ++k) {
       add(node, Kind::Gripper, r, info.grippers.first + k, wire::Interface::Actuator, uint16_t(k));
+    }
+    const IndexRange kickers = kickers_.of(r);
+    for (uint32_t k = 0; k < kickers.count; ++k) {
+      add(node, Kind::Kicker, r, kickers.first + k, wire::Interface::Actuator,
+          uint16_t(info.grippers.count + k));
     }
     if (info.has_power && !scope_.sensors_only) add(node, Kind::Power, r, 0, wire::Interface::Power, 0);
   }
@@ -132,6 +137,13 @@ void SimServer::on_command(DeviceId id, const wire::Message& cmd) {
     const wire::ActuatorCommand* a = cmd.body_as_ActuatorCommand();
     if (a && a->action() == wire::ActuatorAction::Open) world_.set_gripper(d->index, false);
     if (a && a->action() == wire::ActuatorAction::Close) world_.set_gripper(d->index, true);
+    return;
+  }
+  if (d != nullptr && d->kind == Kind::Kicker) {
+    // A kicker kicks; other actions mean nothing to it. A kick while it
+    // recovers from the last one does nothing, as on a real robot.
+    const wire::ActuatorCommand* a = cmd.body_as_ActuatorCommand();
+    if (a && a->action() == wire::ActuatorAction::Kick) kickers_.kick(d->index);
     return;
   }
   if (d == nullptr || d->kind != Kind::Position || !d->motors_on) return;

@@ -1,7 +1,7 @@
 // Serves a simulated world over the wire: one runtime Driver that provides
 // every robot's devices (robot i, named by its world-file name:
 // position2d:0, ranger:k, blobfinder:k, fiducial:k, bumper:k, camera:k,
-// power:0) and
+// power:0, actuator:k: its grippers, then its kickers) and
 // the simulation:0 and map:0 devices (map:0: the static obstacles as an
 // occupancy grid, for viewers). Commands go to the robots; after every step the
 // data of each device that someone reads is published, and a sensor is
@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "host-sim/sim/kicker.h"
 #include "host-sim/sim/world.h"
 #include "host-sim/sim_control/sim_control.h"
 #include "host-sim/sim_control/sim_requests.h"
@@ -69,6 +70,7 @@ class SimServer final : public Driver, private SimulationModels {
     Camera,
     Power,
     Gripper,
+    Kicker,
     Simulation,
     Map
   };
@@ -76,7 +78,7 @@ class SimServer final : public Driver, private SimulationModels {
     DeviceId id = kNoDevice;
     Kind kind;
     RobotId robot = 0;
-    uint32_t index = 0;     // world-wide sensor (or gripper) index
+    uint32_t index = 0;     // world-wide sensor (or gripper, or kicker) index
     bool pinned = false;    // a controller wants it whether read or not
     bool motors_on = true;  // position2d only
     // camera only: what its images carry (SetConfig chooses).
@@ -116,6 +118,9 @@ class SimServer final : public Driver, private SimulationModels {
   void log_refused(const char* what, RobotId robot, const Pose& value);
 
   World& world_;
+  /// The robots' kickers (a Stage robot's `kicker` model), fired by their
+  /// actuator's Kick command.
+  Kickers kickers_;
   SimControl& control_;
   Scope scope_;
   std::vector<Device> devices_;

@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "host-sim/robocup/game/simulation.h"
+#include "host-sim/robocup/physics/kick.h"
 
 namespace troupe::robocup {
 namespace {
@@ -74,21 +75,8 @@ void Simulation::run_kickers() {
     const KickerState& s = k.states[size_t(enter)];
     if (s.accel <= 0) continue;
     // A ball touching the plate of the new state is kicked: it gains
-    // accel * contact along the kick direction; the robot takes the
-    // opposite impulse (the kicker pushes against the robot).
-    const Pose2 pose = world_.pose(r.body);
-    const PlacedShape ball = place(world_.shapes(ball_)[0], world_.pose(ball_));
-    double gap = kUnboundedZ;
-    for (const Shape& plate : s.shapes) {
-      if (heights_overlap(plate, world_.shapes(ball_)[0])) {
-        gap = std::min(gap, separation(place(plate, pose), ball).distance);
-      }
-    }
-    if (gap > k.reach) continue;
-    const Vec2 dv = direction(pose.a + k.direction) * (s.accel * s.contact_s);
-    const Twist bv = world_.velocity(ball_);
-    world_.set_velocity(ball_, {bv.vx + dv.x, bv.vy + dv.y, bv.w});
-    world_.apply_impulse(r.body, dv * -world_.mass(ball_), ball.center);
+    // accel * contact along the kick direction.
+    kick_ball(world_, r.body, s.shapes, k.reach, k.direction, s.accel * s.contact_s, ball_);
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <span>
 
 #include "host-sim/robocup/physics/vec2.h"
 #include "host-sim/sim/loader.h"
@@ -140,7 +141,9 @@ class StageReader {
  public:
   StageReader(const world::WorldFile& file, std::string& error) : file_(file), error_(error) {}
 
-  bool world(const world::Entity& root, std::vector<Statement>& out) {
+  // The root's properties and `models` (top-level models of the root).
+  bool world(const world::Entity& root, std::span<const world::Entity* const> models,
+             std::vector<Statement>& out) {
     Statement physics = at("world", root.loc);
     for (const world::Property& p : root.properties) {
       p.used = true;
@@ -168,14 +171,23 @@ class StageReader {
       }
     }
     if (!physics.options.empty()) out.push_back(std::move(physics));
-    for (const world::Entity& e : root.children) {
+    for (const world::Entity* model : models) {
+      const world::Entity& e = *model;
       if (e.type == "robocup_field") {
         out.push_back(plain(e, "field"));
       } else if (e.type == "referee") {
         out.push_back(plain(e, "referee"));
       } else if (e.type == "ball") {
-        Statement st;
-        if (!posed(e, "ball", st, false)) return false;
+        // The engine's reader, as a Stage world's ball is read.
+        Statement st = at("ball", e.loc);
+        auto ball = std::make_shared<sim::BallDesc>();
+        world::Diagnostics diags;
+        if (!sim::load_ball(file_, e, *ball, diags)) {
+          for (const world::Diagnostic& d : diags.items()) {
+            if (d.severity == world::Severity::Error) return fail(d.loc, d.message);
+          }
+        }
+        st.ball = std::move(ball);
         out.push_back(std::move(st));
       } else if (e.type == "robocup_robot") {
         Statement st;
@@ -218,9 +230,8 @@ class StageReader {
     return st;
   }
 
-  // `pose [x y z a]` as x, y (and a, rad) options.
-  bool posed(const world::Entity& e, std::string keyword, Statement& st, bool heading,
-             const char* arg_key = nullptr) {
+  // `pose [x y z a]` as x, y and a (rad) options.
+  bool posed(const world::Entity& e, std::string keyword, Statement& st, const char* arg_key) {
     st = plain(e, std::move(keyword), arg_key);
     for (auto it = st.options.begin(); it != st.options.end(); ++it) {
       if (it->first != "pose") continue;
@@ -234,18 +245,16 @@ class StageReader {
       st.options.erase(it);
       st.options.emplace_back("x", p->values[0].text);
       st.options.emplace_back("y", p->values[1].text);
-      if (heading) {
-        char a[32];
-        std::snprintf(a, sizeof a, "%.17g", radians_ ? v[3] : v[3] * kPi / 180);
-        st.options.emplace_back("a", a);
-      }
+      char a[32];
+      std::snprintf(a, sizeof a, "%.17g", radians_ ? v[3] : v[3] * kPi / 180);
+      st.options.emplace_back("a", a);
       break;
     }
     return true;
   }
 
   bool robot(const world::Entity& e, Statement& st) {
-    if (!posed(e, "robot", st, true, "name")) return false;
+    if (!posed(e, "robot", st, "name")) return false;
     if (st.args.empty()) return fail(e.loc, "a robocup_robot needs a name");
     // mass and inertia are the robot file's `mass M inertia=I`.
     Statement mass = at("mass", e.loc);
@@ -337,7 +346,14 @@ std::string folder_of(const std::string& path) {
 }
 
 bool from_stage(const world::WorldFile& file, std::vector<Statement>& out, std::string& error) {
-  return StageReader(file, error).world(file.root(), out);
+  std::vector<const world::Entity*> models;
+  for (const world::Entity& e : file.root().children) models.push_back(&e);
+  return from_stage(file, models, out, error);
+}
+
+bool from_stage(const world::WorldFile& file, std::span<const world::Entity* const> models,
+                std::vector<Statement>& out, std::string& error) {
+  return StageReader(file, error).world(file.root(), models, out);
 }
 
 bool load_stage_file(const std::string& path, std::vector<Statement>& out, std::string& error) {

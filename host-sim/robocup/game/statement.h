@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct Statement {
   /// blobfinder, bumper, gripper), read by the engine's loader: only the
   /// sensor lists are filled, cameras standing on height 0. Null for none.
   std::shared_ptr<const sim::RobotDesc> stage_sensors;
+  /// A `ball`'s keys, read by the engine's loader (sim::load_ball): the
+  /// one reader of `ball`, in a match as in a Stage world.
+  std::shared_ptr<const sim::BallDesc> ball;
   std::string file;
   int line = 0;
 
@@ -49,6 +53,10 @@ struct Statement {
 /// `camera`, `fiducial`, `blobfinder`, ...: Statement::stage_sensors). A tuple `[0 0.6]` becomes the list
 /// `0,0.6`. False with "file:line: why" for a model no RoboCup world has.
 bool from_stage(const world::WorldFile& file, std::vector<Statement>& out, std::string& error);
+/// The same for the world's properties and just `models`, top-level models
+/// of `file` (the one loader, world_load.h, hands over a match's models).
+bool from_stage(const world::WorldFile& file, std::span<const world::Entity* const> models,
+                std::vector<Statement>& out, std::string& error);
 
 /// Reads and parses a Stage world file for RoboCup (errors and warnings of
 /// the Stage parser with file:line in `error`).

@@ -3,28 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host-sim/sim/ball.h"
+
 namespace troupe::robocup {
 namespace {
-
-// Sides of the polygon a round shape becomes: the grid's cells are coarser
-// than the difference on field-sized posts and balls.
-constexpr int kRoundSides = 24;
-
-// A shape's outline in its body's frame, m.
-std::vector<sim::Vec2> outline(const Shape& s) {
-  std::vector<sim::Vec2> out;
-  if (s.kind == ShapeKind::Polygon) {
-    out.assign(s.vertices, s.vertices + s.vertex_count);
-    return out;
-  }
-  const double rx = s.kind == ShapeKind::Circle ? s.radius : s.rx;
-  const double ry = s.kind == ShapeKind::Circle ? s.radius : s.ry;
-  for (int i = 0; i < kRoundSides; ++i) {
-    const double t = 2 * kPi * i / kRoundSides;
-    out.push_back(s.center + rotate({rx * std::cos(t), ry * std::sin(t)}, s.angle));
-  }
-  return out;
-}
 
 // The top of the tallest shape with a finite top, m; `fallback` if none.
 double top_of(const std::vector<Shape>& shapes, double fallback) {
@@ -135,18 +117,14 @@ sim::WorldDesc world_desc(const WorldSpec& spec, const FieldColors& colors) {
     w.floor.marks.push_back({{0, 0}, {0, 0}, g.center_circle_radius, line, colors.lines});
   }
 
-  const BallSpec& b = spec.ball;
-  sim::RigidDesc ball;
-  ball.shapes = {with_height(make_circle({0, 0}, b.radius), 0, 2 * b.radius)};
-  // A solid sphere rolling on the carpet.
-  ball.inertia = 0.4 * b.mass * b.radius * b.radius;
-  ball.linear_deceleration = b.deceleration;
-  ball.angular_deceleration = b.deceleration / b.radius;
+  sim::BallDesc ball;
+  ball.radius = spec.ball.radius;
+  ball.mass = spec.ball.mass;
+  ball.deceleration = spec.ball.deceleration;
+  ball.pose = {spec.ball.start.x, spec.ball.start.y, 0};
+  ball.color = colors.ball;
   ball.user_data = make_user_data(kBallTag, 0);
-  w.robots.push_back(body("ball", {b.start.x, b.start.y, 0}, {make_circle({0, 0}, b.radius)}, 2 * b.radius,
-                          colors.ball, b.mass, std::move(ball)));
-  // A movable object: no drive, and a gripper may hold it.
-  w.robots.back().puck = true;
+  w.robots.push_back(sim::ball_robot(ball));
   for (size_t k = 0; k < spec.robots.size(); ++k) {
     const RobotEntry& e = spec.robots[k];
     sim::RigidDesc rigid;

@@ -1,5 +1,7 @@
 #include "host-sim/robocup/game/world_spec.h"
 
+#include "host-sim/robocup/game/world_load.h"
+
 namespace troupe::robocup {
 namespace {
 
@@ -28,14 +30,15 @@ bool read_physics(const Statement& st, WorldSpec& w, std::string& error) {
   return true;
 }
 
-bool read_ball(const Statement& st, BallSpec& b, std::string& error) {
-  Options o = st.reader();
-  b.radius = o.number("radius", b.radius, 0.01, 1);
-  b.mass = o.number("mass", b.mass, 0.001, 100);
-  b.deceleration = o.number("deceleration", b.deceleration, 0, 100);
-  b.start = {o.number("x", 0), o.number("y", 0)};
-  if (!o.finish(error)) return fail(st, error, error);
-  return true;
+// The engine read the ball's keys (Statement::ball); the match takes its
+// size, mass, slowing and kick-off spot.
+BallSpec ball_spec(const sim::BallDesc& b) {
+  BallSpec out;
+  out.radius = b.radius;
+  out.mass = b.mass;
+  out.deceleration = b.deceleration;
+  out.start = {b.pose.x, b.pose.y};
+  return out;
 }
 
 bool read_robot_entry(const Statement& st, WorldSpec& w, std::string& error) {
@@ -89,7 +92,8 @@ bool read_world(const std::vector<Statement>& statements, const std::string& fil
     } else if (st.keyword == "field") {
       if (!read_field(st, w.field, error)) return false;
     } else if (st.keyword == "ball") {
-      if (!read_ball(st, w.ball, error)) return false;
+      if (!st.ball) return fail(st, "a ball needs its model's keys", error);
+      w.ball = ball_spec(*st.ball);
     } else if (st.keyword == "referee") {
       if (!read_referee(st, w.referee, error)) return false;
     } else if (st.keyword == "robot") {
@@ -102,9 +106,19 @@ bool read_world(const std::vector<Statement>& statements, const std::string& fil
 }
 
 bool load_world_file(const std::string& path, WorldSpec& out, std::string& error) {
-  std::vector<Statement> st;
-  if (!load_stage_file(path, st, error)) return false;
-  return read_world(st, path, out, error);
+  LoadedWorld world;
+  world::Diagnostics diags;
+  if (!load_any_world(path, world, diags)) {
+    error = diags.str();
+    while (!error.empty() && error.back() == '\n') error.pop_back();
+    return false;
+  }
+  if (!world.game) {
+    error = path + ": no RoboCup models (robocup_field, referee, robocup_robot): a Stage world";
+    return false;
+  }
+  out = std::move(*world.game);
+  return true;
 }
 
 bool parse_world_text(const std::string& text, const std::string& file, WorldSpec& out, std::string& error) {

@@ -58,7 +58,8 @@ struct WorldSpec {
 
 bool read_world(const std::vector<Statement>& statements, const std::string& file, WorldSpec& out,
                 std::string& error);
-/// A Stage world file with RoboCup models (statement.h has the mapping).
+/// A Stage world file with RoboCup models (statement.h has the mapping),
+/// read by the one loader (world_load.h); false for a world without them.
 bool load_world_file(const std::string& path, WorldSpec& out, std::string& error);
 /// The same from text, named `file` (includes resolve next to it).
 bool parse_world_text(const std::string& text, const std::string& file, WorldSpec& out, std::string& error);

@@ -1,6 +1,7 @@
 #include "host-sim/robocup/physics/shape.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace troupe::robocup {
@@ -233,6 +234,21 @@ Aabb bounds(const PlacedShape& s) {
     }
   }
   return {};
+}
+
+std::vector<Vec2> outline(const Shape& s, int round_sides) {
+  std::vector<Vec2> out;
+  if (s.kind == ShapeKind::Polygon) {
+    out.assign(s.vertices, s.vertices + s.vertex_count);
+    return out;
+  }
+  const double rx = s.kind == ShapeKind::Circle ? s.radius : s.rx;
+  const double ry = s.kind == ShapeKind::Circle ? s.radius : s.ry;
+  for (int i = 0; i < round_sides; ++i) {
+    const double t = 2 * kPi * i / round_sides;
+    out.push_back(s.center + rotate({rx * std::cos(t), ry * std::sin(t)}, s.angle));
+  }
+  return out;
 }
 
 }  // namespace troupe::robocup

@@ -7,6 +7,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "host-sim/robocup/physics/vec2.h"
 
@@ -64,6 +65,13 @@ struct AreaProperties {
   double second_moment = 0;
 };
 AreaProperties area_properties(const Shape& shape);
+
+/// The shape's outline in its body's frame, m: a polygon's corners, or
+/// `round_sides` points around a circle or ellipse (for grids, rays and
+/// cameras, which need polygons). The default: the grid's cells are coarser
+/// than the difference on field-sized posts and balls.
+inline constexpr int kRoundOutlineSides = 24;
+std::vector<Vec2> outline(const Shape& shape, int round_sides = kRoundOutlineSides);
 
 /// The farthest distance of the shape from `point` (body frame), m.
 double reach_from(const Shape& shape, Vec2 point);

@@ -5,6 +5,7 @@
 #include "host-sim/robocup/serve/robocup_server.h"
 
 #include "host-sim/robocup/api/fiducial_key.h"
+#include "host-sim/sim_control/kicker_state.h"
 
 namespace troupe::robocup {
 namespace {
@@ -66,10 +67,7 @@ void RobocupServer::publish_kicker(Device& d) {
   d.kicker_state = index;
   // The first state is the rest state, ready to kick; any other is a kick
   // in progress (or its recovery).
-  const wire::ActuatorMode mode = index == 0 ? wire::ActuatorMode::Ready : wire::ActuatorMode::Kicking;
-  auto& b = node_->begin();
-  auto body = wire::CreateActuatorState(b, mode, 0.0f, 0, 0);
-  node_->publish(d.id, uint8_t(wire::ActuatorDataSub::State), wire::Body::ActuatorState, body.Union());
+  sim::publish_kicker_state(*node_, d.id, index == 0);
 }
 
 void RobocupServer::publish_fiducials(Device& d) {
