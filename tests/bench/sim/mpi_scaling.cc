@@ -5,8 +5,10 @@
 // of the stepping (troupe-sim --profile's last line and its division table:
 // loading the world is not counted), speed-up and efficiency against the
 // baseline, then per step and rank what the ranks exchanged and where their
-// time went. A program of its own rather than a sim_bench row: its runs are
-// whole troupe-sim processes under mpirun, not a World stepped in-process.
+// time went, and the slowest rank's own work (CPU s outside MPI calls), a
+// speed the shared machine's load does not change. A program of its own
+// rather than a sim_bench row: its runs are whole troupe-sim processes
+// under mpirun, not a World stepped in-process.
 // Runs are alternated (every configuration once, then again) and medians
 // reported, with the machine's load, which is shared.
 //
@@ -17,7 +19,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -259,7 +260,17 @@ int main(int argc, char** argv) {
       ->type_name("DIR");
   if (int rc = troupe::cli::parse(*app, argc, argv); rc >= 0) return rc;
   if (names.empty()) names = {"strong", "weak", "huge"};
-  if (dir.empty()) dir = troupe::testing::make_temp_dir("mpi-scaling-");
+  // A folder of its own is removed at the end; one given (--dir) keeps its
+  // worlds for the next run (the 100,000-robot one takes a while to write).
+  const bool own_dir = dir.empty();
+  if (own_dir) dir = troupe::testing::make_temp_dir("mpi-scaling-");
+  struct Cleanup {
+    bool own;
+    const std::string& path;
+    ~Cleanup() {
+      if (own) troupe::testing::remove_tree(path);
+    }
+  } cleanup{own_dir, dir};
   if (geteuid() == 0) {
     // OpenMPI refuses root unless told twice.
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
