@@ -5,21 +5,34 @@
 #include <chrono>
 #include <climits>
 #include <cstdlib>
+#include <ctime>
 #include <stdexcept>
 #include <thread>
 
 namespace troupe::sim::mpi {
 namespace {
 
-// Times one MPI call into the total.
+// Times one MPI call into the total (wall s), and into `cpu` (this
+// thread's CPU s: OpenMPI polls while it waits) when given.
 class Timed {
  public:
-  explicit Timed(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
-  ~Timed() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  explicit Timed(double& total, double* cpu = nullptr)
+      : total_(total), cpu_(cpu), start_(std::chrono::steady_clock::now()), start_cpu_(thread_cpu_s()) {}
+  ~Timed() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (cpu_) *cpu_ += thread_cpu_s() - start_cpu_;
+  }
 
  private:
+  static double thread_cpu_s() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
+  }
   double& total_;
+  double* cpu_;
   std::chrono::steady_clock::time_point start_;
+  double start_cpu_;
 };
 
 int checked_count(size_t n) {
@@ -65,8 +78,9 @@ Comm::~Comm() {
 }
 
 void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
-  Timed t(seconds_);
-  std::vector<int> send_counts(static_cast<size_t>(size_)), recv_counts(static_cast<size_t>(size_)), send_displs, recv_displs;
+  Timed t(seconds_, &cpu_seconds_);
+  std::vector<int> send_counts(static_cast<size_t>(size_)), recv_counts(static_cast<size_t>(size_)),
+      send_displs, recv_displs;
   for (int r = 0; r < size_; ++r) {
     // Its own share stays here: the caller keeps what it sends itself.
     send_counts[size_t(r)] = r == rank_ ? 0 : checked_count(send[size_t(r)].size());
@@ -75,7 +89,10 @@ void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
       ++messages_sent_;
     }
   }
-  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  {
+    Timed w(wait_seconds_);
+    MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  }
   const int send_total = offsets(send_counts, send_displs);
   const int recv_total = offsets(recv_counts, recv_displs);
   std::vector<std::byte> out(size_t(send_total) + 1), in(size_t(recv_total) + 1);
@@ -89,10 +106,13 @@ void Comm::exchange(const std::vector<Bytes>& send, std::vector<Bytes>& recv) {
 }
 
 void Comm::all_gather(const Bytes& mine, std::vector<Bytes>& all) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   const int count = checked_count(mine.size());
   std::vector<int> counts(static_cast<size_t>(size_)), displs;
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  {
+    Timed w(wait_seconds_);
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  }
   const int total = offsets(counts, displs);
   std::vector<std::byte> flat(size_t(total) + 1);
   MPI_Allgatherv(mine.data(), count, MPI_BYTE, flat.data(), counts.data(), displs.data(), MPI_BYTE,
@@ -103,10 +123,13 @@ void Comm::all_gather(const Bytes& mine, std::vector<Bytes>& all) {
 }
 
 void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   const int count = checked_count(mine.size());
   std::vector<int> counts(static_cast<size_t>(size_)), displs;
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  {
+    Timed w(wait_seconds_);
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  }
   std::vector<std::byte> flat;
   if (rank_ == 0) flat.resize(size_t(offsets(counts, displs)) + 1);
   MPI_Gatherv(mine.data(), count, MPI_BYTE, flat.data(), counts.data(), displs.data(), MPI_BYTE, 0,
@@ -121,17 +144,20 @@ void Comm::gather(const Bytes& mine, std::vector<Bytes>& all) {
 }
 
 void Comm::broadcast(Bytes& bytes) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_);
   uint64_t size = bytes.size();
-  MPI_Request request;
-  MPI_Ibcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
-  int done = 0;
-  MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-  while (!done) {
-    // A leader that steps answers within a step; one that is paused or
-    // serving may take seconds. 0.1 ms is well below a step's time.
-    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  {
+    Timed w(wait_seconds_);  // the size's broadcast: the followers wait for the leader here
+    MPI_Request request;
+    MPI_Ibcast(&size, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
+    int done = 0;
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    while (!done) {
+      // A leader that steps answers within a step; one that is paused or
+      // serving may take seconds. 0.1 ms is well below a step's time.
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    }
   }
   if (rank_ != 0) bytes.resize(size);
   if (rank_ == 0) {
@@ -142,7 +168,7 @@ void Comm::broadcast(Bytes& bytes) {
 }
 
 bool Comm::any(bool mine) {
-  Timed t(seconds_);
+  Timed t(seconds_, &cpu_seconds_), w(wait_seconds_);  // one int: all of it is waiting
   int in = mine ? 1 : 0, out = 0;
   MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return out != 0;

@@ -50,11 +50,20 @@ class Comm {
   /// Wall time spent inside MPI calls, s: waiting for the slowest rank
   /// counts here.
   double seconds() const { return seconds_; }
+  /// The part of seconds() spent agreeing on sizes before the data moves
+  /// (a few bytes each way, s): mostly waiting for the slowest rank to
+  /// arrive, so seconds() - wait_seconds() is the data's transfer.
+  double wait_seconds() const { return wait_seconds_; }
+  /// CPU time of the calling thread inside MPI calls, s: OpenMPI polls
+  /// while it waits, so a process's CPU time less this is its own work.
+  double cpu_seconds() const { return cpu_seconds_; }
 
  private:
   int rank_ = 0, size_ = 1;
   uint64_t bytes_sent_ = 0, messages_sent_ = 0;
   double seconds_ = 0;
+  double wait_seconds_ = 0;
+  double cpu_seconds_ = 0;
 };
 
 }  // namespace troupe::sim::mpi

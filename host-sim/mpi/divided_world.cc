@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "host-sim/sim/bytes.h"
+#include "host-sim/sim/profile.h"
 #include "host-sim/sim/static_map.h"
 
 namespace troupe::sim::mpi {
@@ -34,7 +35,7 @@ void put_motion(Bytes& out, RobotId id, const World::GhostMotion& m) {
 
 }  // namespace
 
-DividedWorld::DividedWorld(Comm& comm, Options options) : comm_(comm), options_(options), started_s_(wall_s()) {}
+DividedWorld::DividedWorld(Comm& comm, Options options) : comm_(comm), options_(options) {}
 
 bool DividedWorld::start(World& world, std::string& error) {
   if (!world.divisible(error)) {
@@ -46,6 +47,14 @@ bool DividedWorld::start(World& world, std::string& error) {
   // Clients reach the leader; the robots' owners take their inputs.
   if (first()) world.set_journal(&journal_);
   restart(world);
+  // The report's times count from here: loading the world is not stepping it.
+  started_s_ = wall_s();
+  started_cpu_ns_ = process_cpu_ns();
+  started_bytes_ = comm_.bytes_sent();
+  started_messages_ = comm_.messages_sent();
+  started_comm_s_ = comm_.seconds();
+  started_wait_s_ = comm_.wait_seconds();
+  started_mpi_cpu_s_ = comm_.cpu_seconds();
   return true;
 }
 
@@ -79,7 +88,8 @@ void DividedWorld::fit_map(World& world) {
     return Vec2{std::clamp(p.x, grid_lo.x, grid_hi.x), std::clamp(p.y, grid_lo.y, grid_hi.y)};
   };
   const Vec2 need_lo = clip(lo - Vec2{halo_, halo_}), need_hi = clip(hi + Vec2{halo_, halo_});
-  if (held_lo_.x <= need_lo.x && held_lo_.y <= need_lo.y && held_hi_.x >= need_hi.x && held_hi_.y >= need_hi.y)
+  if (held_lo_.x <= need_lo.x && held_lo_.y <= need_lo.y && held_hi_.x >= need_hi.x &&
+      held_hi_.y >= need_hi.y)
     return;
   // A halo more each way, so regions redrawn a little need no new map.
   held_lo_ = clip(need_lo - Vec2{halo_, halo_});
@@ -275,33 +285,49 @@ bool DividedWorld::gather_poses(const World& world, std::vector<Pose>& poses) {
 std::string DividedWorld::report(const World& world) {
   struct Row {
     uint64_t robots, bytes, messages, migrations, world_bytes, map_builds;
-    double comm_s, wall_s;
+    double comm_s, wait_s, wall_s, cpu_s, mpi_cpu_s;
   };
-  const Row mine{owned_.size(),         comm_.bytes_sent(), comm_.messages_sent(), migrations_,
-                 world.memory_bytes(), map_builds_,        comm_.seconds(),       wall_s() - started_s_};
+  const Row mine{owned_.size(),
+                 comm_.bytes_sent() - started_bytes_,
+                 comm_.messages_sent() - started_messages_,
+                 migrations_,
+                 world.memory_bytes(),
+                 map_builds_,
+                 comm_.seconds() - started_comm_s_,
+                 comm_.wait_seconds() - started_wait_s_,
+                 wall_s() - started_s_,
+                 double(process_cpu_ns() - started_cpu_ns_) * 1e-9,
+                 comm_.cpu_seconds() - started_mpi_cpu_s_};
   Bytes b;
   put(b, mine);
   std::vector<Bytes> all;
   comm_.gather(b, all);
   if (!first()) return "";
   const double steps = double(std::max<uint64_t>(steps_, 1));
+  // Waiting s (part of exchanging s), CPU s and the part of it in MPI
+  // come last, so readers of the older columns read them where they were.
+  // CPU s less MPI CPU s is the rank's own work, whatever the machine's
+  // load.
   std::string out;
-  char line[240];
-  std::snprintf(line, sizeof line,
-                "%d ranks (%d x %d tiles), halo %.2f m, %llu steps, regions redrawn %llu times\n"
-                "rank  robots  bytes/step  messages/step  migrated  exchanging s  other s  world MB  map builds\n",
-                tiles_.ranks(), tiles_.cols(), tiles_.rows(), halo_, static_cast<unsigned long long>(steps_),
-                static_cast<unsigned long long>(rebalances_));
+  char line[320];
+  std::snprintf(
+      line, sizeof line,
+      "%d ranks (%d x %d tiles), halo %.2f m, %llu steps, regions redrawn %llu times\n"
+      "rank  robots  bytes/step  messages/step  migrated  exchanging s  other s  world MB  map builds  "
+      "waiting s  CPU s  MPI CPU s\n",
+      tiles_.ranks(), tiles_.cols(), tiles_.rows(), halo_, static_cast<unsigned long long>(steps_),
+      static_cast<unsigned long long>(rebalances_));
   out += line;
   for (size_t r = 0; r < all.size(); ++r) {
     Row row{};
     std::span<const std::byte> in(all[r]);
     if (!get(in, row)) continue;
-    std::snprintf(line, sizeof line, "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f  %8.1f  %10llu\n", r,
-                  static_cast<unsigned long long>(row.robots), double(row.bytes) / steps,
+    std::snprintf(line, sizeof line,
+                  "%4zu  %6llu  %10.0f  %13.1f  %8llu  %12.3f  %7.3f  %8.1f  %10llu  %9.3f  %5.2f  %9.2f\n",
+                  r, static_cast<unsigned long long>(row.robots), double(row.bytes) / steps,
                   double(row.messages) / steps, static_cast<unsigned long long>(row.migrations), row.comm_s,
                   row.wall_s - row.comm_s, double(row.world_bytes) / 1e6,
-                  static_cast<unsigned long long>(row.map_builds));
+                  static_cast<unsigned long long>(row.map_builds), row.wait_s, row.cpu_s, row.mpi_cpu_s);
     out += line;
   }
   return out;

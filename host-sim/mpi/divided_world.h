@@ -84,7 +84,11 @@ class DividedWorld final : public Division {
   uint64_t migrations_ = 0;  // robots this rank handed over
   uint64_t rebalances_ = 0;
   uint64_t map_builds_ = 0;
-  double started_s_ = 0;  // wall clock when made, s
+  double started_s_ = 0;         // wall clock when start() ended (the world loaded), s
+  uint64_t started_cpu_ns_ = 0;  // this process's CPU time then, ns
+  // Comm's counters then: the report counts the run, not the start.
+  uint64_t started_bytes_ = 0, started_messages_ = 0;
+  double started_comm_s_ = 0, started_wait_s_ = 0, started_mpi_cpu_s_ = 0;
 };
 
 }  // namespace troupe::sim::mpi

@@ -231,6 +231,10 @@ void World::set_journal(std::vector<std::byte>* journal) {
   e_->journal = journal;
 }
 
+std::vector<std::byte>* World::journal() const {
+  return e_->journal;
+}
+
 bool World::replay(std::span<const std::byte> in) {
   Engine& e = *e_;
   std::vector<std::byte>* journal = e.journal;

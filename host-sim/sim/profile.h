@@ -20,6 +20,14 @@ inline uint64_t now_ns() {
   return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
 }
 
+/// CPU nanoseconds of this process, every thread (MPI's own included): on
+/// a shared machine, the work done, whatever the waiting for a core.
+inline uint64_t process_cpu_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
+}
+
 class Profile {
  public:
   struct Phase {

@@ -363,6 +363,8 @@ class World {
   /// also appended to it, so the process serving clients can hand them to
   /// the processes that own the robots. nullptr stops it.
   void set_journal(std::vector<std::byte>* journal);
+  /// The journal set_journal() set, or nullptr.
+  std::vector<std::byte>* journal() const;
   /// Takes the inputs a journal holds, in their order (none is journaled
   /// again). False at the first record that is not one.
   bool replay(std::span<const std::byte> journal);

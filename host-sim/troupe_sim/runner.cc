@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "host-sim/sim/loader.h"
+#include "host-sim/sim/profile.h"
 #include "host-sim/sim/snapshot.h"
 #include "runtime/clock.h"
 #include "runtime/log.h"
@@ -105,9 +106,15 @@ bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagn
     options.secure.apply(no);
     auto node = std::make_unique<Node>(no);
     node->set_clock(sim_clock_us, world_.get());
-    auto server = std::make_unique<SimServer>(*world_, control_, i);
-    SimServer* raw = server.get();
-    if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
+    // A run that serves nothing (--no-serve) registers no devices: none
+    // could be read, and its robots need no wire address, so worlds beyond
+    // the 16-bit robot numbers run too. Its node only keeps the loop.
+    SimServer* raw = nullptr;
+    if (options.serve) {
+      auto server = std::make_unique<SimServer>(*world_, control_, i);
+      raw = server.get();
+      if (!node->add_driver(std::move(server), DriverSetup{}, error)) return false;
+    }
     if (serves && !node->start(error)) {
       error = "cannot serve on " + options.listen + ":" + std::to_string(no.port) + ": " + error;
       // The other processes of a divided run learn it below.
@@ -115,7 +122,7 @@ bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagn
       serve_failed = true;
       break;
     }
-    servers_.push_back(raw);
+    if (raw) servers_.push_back(raw);
     nodes_.push_back(std::move(node));
     if (!serves) break;
   }
@@ -346,13 +353,16 @@ int Runner::run() {
     run_step_slice();
     return true;
   };
+  // The run's own time, without loading the world, for --profile's last line.
+  const double start_sim_s = world_->time();
+  const uint64_t start_steps = world_->steps(), start_ns = now_ns(), start_cpu_ns = process_cpu_ns();
   run_paced(control_, stop_, parts, rate_, [this] { progress(false); });
   // The others stop and report (every process takes part in the table).
   std::string divided;
-  if (division_) {
-    division_->sync(*world_, Division::Order::Stop);
-    if (options_.profile) divided = division_->report(*world_);
-  }
+  if (division_) division_->sync(*world_, Division::Order::Stop);
+  const double run_wall_s = double(now_ns() - start_ns) * 1e-9,
+               run_cpu_s = double(process_cpu_ns() - start_cpu_ns) * 1e-9;
+  if (division_ && options_.profile) divided = division_->report(*world_);
   progress(true);
   if (quit_time_reached()) {
     char why[96];
@@ -375,7 +385,14 @@ int Runner::run() {
     log_error("the trajectory log %s could not be written completely", options_.log.c_str());
     return 1;
   }
-  if (options_.profile) std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
+  if (options_.profile) {
+    std::fprintf(stderr, "%s%s", world_->profile().table().c_str(), divided.c_str());
+    // One line for scripts (tests/bench/sim/mpi_scaling reads it). CPU is
+    // this process's; a divided run's other processes are in the table.
+    std::fprintf(stderr, "run: %llu steps, %.3f simulated s, %.3f wall s, %.3f CPU s\n",
+                 static_cast<unsigned long long>(world_->steps() - start_steps), world_->time() - start_sim_s,
+                 run_wall_s, run_cpu_s);
+  }
   return 0;
 }
 

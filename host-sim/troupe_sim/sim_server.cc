@@ -39,7 +39,9 @@ void SimServer::add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::
 
 bool SimServer::setup(Node& node, const DriverSetup&, std::string& error) {
   if (world_.robot_count() - scope_.first_robot > 0xFFFF) {
-    error = "more than 65535 robots cannot be addressed";
+    error =
+        "more than 65535 robots cannot be addressed (a robot's number on the wire is 16 bits); "
+        "--no-serve runs the world unserved";
     return false;
   }
   for (RobotId r = scope_.first_robot; r < world_.robot_count(); ++r) {

@@ -188,9 +188,8 @@ TEST_F(SimProcess, SteppingPastTheQuitTimeEndsTheRunAndSaysSo) {
 // loopback lets any machine that reaches the port drive every robot, so it
 // must be asked for, and the log keeps saying it was.
 TEST_F(SimProcess, ListeningBeyondLoopbackNeedsInsecureAndTheLogSaysSo) {
-  testing::ProgramResult refused =
-      testing::run_to_end({kBin + "troupe-sim", write_world(0), "--port", "0", "--no-view", "--listen", "0.0.0.0"},
-                          kReplyMs);
+  testing::ProgramResult refused = testing::run_to_end(
+      {kBin + "troupe-sim", write_world(0), "--port", "0", "--no-view", "--listen", "0.0.0.0"}, kReplyMs);
   EXPECT_EQ(refused.status, 2);
   EXPECT_NE(refused.err.find("troupe-sim: serving 0.0.0.0:0 in plain TCP would let any machine"),
             std::string::npos)
@@ -198,11 +197,48 @@ TEST_F(SimProcess, ListeningBeyondLoopbackNeedsInsecureAndTheLogSaysSo) {
   EXPECT_NE(refused.err.find("--insecure"), std::string::npos) << refused.err;
 
   start(0, {"--listen", "0.0.0.0", "--insecure"});
-  EXPECT_TRUE(sim_.wait_for("insecure: troupe-sim on 0.0.0.0:" + std::to_string(port_) + " serves plain TCP", true,
-                            kReplyMs))
+  EXPECT_TRUE(sim_.wait_for("insecure: troupe-sim on 0.0.0.0:" + std::to_string(port_) + " serves plain TCP",
+                            true, kReplyMs))
       << sim_.err();
   testing::ProgramResult ls = troupe({"ls", host_});
   EXPECT_EQ(ls.status, 0) << ls.err;
+}
+
+// A robot's number on the wire is 16 bits: a served world of 65,536 robots
+// is refused with the reason and the way out, and the same world runs
+// unserved (--no-serve), every robot stepped to the last.
+TEST_F(SimProcess, MoreRobotsThanTheWireAddressesRunOnlyUnserved) {
+  constexpr int kSide = 256;  // 65,536 robots, 0.5 m apart
+  std::string text = "resolution 0.05\ninterval_sim 100\ndefine bot position ( size [0.2 0.2] )\n";
+  for (int k = 0; k < kSide * kSide; ++k) {
+    text += "bot ( name \"b" + std::to_string(k) + "\" pose [" + std::to_string(0.5 * (k % kSide)) + " " +
+            std::to_string(0.5 * (k / kSide)) + " 0 0] )\n";
+  }
+  dir_ = testing::make_temp_dir("troupe-sim-process-");
+  ASSERT_FALSE(dir_.empty());
+  const std::string world = dir_ + "/many.world", log = dir_ + "/many.csv";
+  std::ofstream(world) << text;
+
+  testing::ProgramResult served = testing::run_to_end(
+      {kBin + "troupe-sim", world, "--port", "0", "--no-view", "--quit-time", "0.1"}, 120000);
+  EXPECT_EQ(served.status, 1);
+  EXPECT_NE(served.err.find("more than 65535 robots cannot be addressed"), std::string::npos) << served.err;
+  EXPECT_NE(served.err.find("--no-serve"), std::string::npos) << served.err;
+  EXPECT_EQ(served.out.find("listening on"), std::string::npos) << served.out;
+
+  testing::ProgramResult unserved = testing::run_to_end(
+      {kBin + "troupe-sim", world, "--no-serve", "--quit-time", "0.1", "--log", log}, 120000);
+  ASSERT_EQ(unserved.status, 0) << unserved.err;
+  std::ifstream in(log);
+  std::string line, last;
+  size_t lines = 0;
+  while (std::getline(in, line)) {
+    ++lines;
+    last = line;
+  }
+  // The header, then every robot's pose after the one step.
+  EXPECT_EQ(lines, 1u + size_t(kSide) * kSide);
+  EXPECT_NE(last.find(",b65535,"), std::string::npos) << last;
 }
 
 }  // namespace
