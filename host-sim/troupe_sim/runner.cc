@@ -277,8 +277,14 @@ void Runner::step_once() {
   }
   world_->step(*division_);
   division_->after_step(*world_);
-  if (!options_.log.empty() && division_->gather_poses(*world_, gathered_)) log_.record(*world_, gathered_);
-  if (mirror_) division_->mirror(*world_);
+  if (mirror_) {
+    // The leader's world holds every robot's state now: the log reads it
+    // there rather than gathering the poses a second time.
+    division_->mirror(*world_);
+    log_.record(*world_);
+  } else if (!options_.log.empty() && division_->gather_poses(*world_, gathered_)) {
+    log_.record(*world_, gathered_);
+  }
 }
 
 void Runner::refresh() {
