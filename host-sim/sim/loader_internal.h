@@ -98,8 +98,8 @@ class Loader {
   // share (a world of one robot type holds one list).
   SharedList<RangerDesc> last_rangers_;
   ModelHandoff* handoff_;
-  int pucks_ = 0;  // unnamed pucks so far, for their default names
-  int balls_ = 0;  // unnamed balls so far, likewise
+  int pucks_ = 0;                         // unnamed pucks so far, for their default names
+  int balls_ = 0;                         // unnamed balls so far, likewise
   Physics physics_ = Physics::Kinematic;  // the world's, read before its models
 };
 

@@ -57,8 +57,8 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
   return init(options, std::move(desc), diags, error, division);
 }
 
-bool Runner::init(const SimOptions& options, WorldDesc desc, world::Diagnostics& diags,
-                  std::string& error, Division* division) {
+bool Runner::init(const SimOptions& options, WorldDesc desc, world::Diagnostics& diags, std::string& error,
+                  Division* division) {
   options_ = options;
   if (division) {
     // Devices presented as hardware live beside their robot's process.

@@ -167,7 +167,7 @@ class Parser {
     if (!inserted) {
       // Stage looks macros up in definition order, so the first one wins.
       diags_.warn(m.loc, "'" + name + "' is already defined at " + it->second.loc.str() +
-                               "; this definition is ignored");
+                             "; this definition is ignored");
     } else {
       // A new name may change what a define's body expands to.
       expanded_.clear();
