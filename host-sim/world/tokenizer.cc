@@ -58,8 +58,9 @@ bool tokenize(std::string_view text, const std::shared_ptr<const std::string>& f
   size_t i = 0;
   const size_t n = text.size();
   auto loc = [&]() { return SourceLoc{file, line}; };
-  // About one token per 4 bytes of a generated world: reserving spares the
-  // doublings (and the moment both buffers are held) on a large file.
+  // A generated world has a token every 6 bytes or so: reserving one per
+  // 4 spares the doublings (and the moments both buffers are held) on a
+  // large file; pages reserved but never written cost nothing.
   out.reserve(out.size() + text.size() / 4);
   while (i < n) {
     char c = text[i];
