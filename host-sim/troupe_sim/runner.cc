@@ -213,8 +213,19 @@ void Runner::serve(int64_t wait_us) {
   if (division_) woke = division_->pending();
   if (woke && control_.paused) {
     if (division_) division_->sync(*world_, Division::Order::Refresh);
+    // Robots moved while paused (a teleport, a reset): every reader gets
+    // the new readings. Otherwise only the new readers' sensors are new:
+    // a thousand clients connecting to a paused world cost a thousand
+    // sensors and samples, not a thousand times the world's.
+    const bool moved = world_->changed_since_step();
     refresh();
-    for (SimServer* s : servers_) s->publish();
+    for (SimServer* s : servers_) {
+      if (moved) {
+        s->publish();
+      } else {
+        s->publish_woken();
+      }
+    }
   }
 }
 
@@ -289,7 +300,7 @@ void Runner::step_once() {
 
 void Runner::refresh() {
   if (division_) division_->ghosts(*world_);
-  world_->refresh_sensors();
+  world_->refresh_new_sensors();
   if (mirror_) division_->mirror(*world_);
 }
 
