@@ -109,7 +109,12 @@ std::string large_world() {
 // fiducial finders of 2 m instead of 4 m: a thousand 4 m finders in a
 // crowd cost 80 ms a step) in a walled 50 x 50 m hall, one in each cell of
 // a 32 x 32 grid but the last 24, placed within their cells by a seeded
-// generator: wandering and gathering in clusters, robots cross the cut.
+// generator: wandering and gathering in clusters. And one robot more,
+// without sensors (swarm-clients drives none such), driving east at a
+// steady 1 m/s along the empty strip by the north wall from x = -6 m: the
+// cut between two ranks falls near x = 0 (at the robots' median x, within
+// column 15 or 16 of the grid, |x| < 1.3 m), so it crosses within 8
+// simulated seconds, whatever the swarm does.
 std::string swarm1000_world() {
   std::string swarm = read_file(std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world");
   const size_t from = swarm.find("define sonar "), to = swarm.find("swarmbot ( name");
@@ -133,6 +138,9 @@ std::string swarm1000_world() {
     w << "swarmbot ( name \"b" << n << "\" pose [ " << x << " " << y << " 0 " << int(heading(rng))
       << " ] )\n";
   }
+  // The last row holds 8 robots, all west of x = -12 m: the strip is empty.
+  w << "position ( name \"crosser\" size [ 0.3 0.3 0.2 ] pose [ -6 24.6 0 0 ] velocity [ 1 0 0 0 ]\n"
+       "  acceleration_bounds [ 0 0 0 0 0 0 0 0 ] velocity_bounds [ -1 1 0 0 0 0 -90 90 ] )\n";
   return w.str();
 }
 
@@ -293,8 +301,7 @@ TEST_F(Divided, RanksHoldTheirPartOfALargeMapAndSeeWhatTheWholeMapHolds) {
 TEST_F(Divided, WhatCannotBeDividedIsRefusedByEveryRankWithItsReason) {
   const std::string forage = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/forage.world";
   testing::ProgramResult r = testing::run_to_end(
-      join(mpirun(2), {kSim, forage, "--no-serve", "--no-ctrl", "--quit-time", "1"}),
-      kRefusalMs);
+      join(mpirun(2), {kSim, forage, "--no-serve", "--no-ctrl", "--quit-time", "1"}), kRefusalMs);
   EXPECT_EQ(r.status, 1) << "mpirun ends with its ranks' status, not killed on a hang";
   EXPECT_NE(r.err.find("cannot be divided"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("rigid"), std::string::npos) << r.err;
@@ -308,7 +315,8 @@ TEST_F(Divided, WhatCannotBeDividedIsRefusedByEveryRankWithItsReason) {
   // So does a port already taken, which only the leader would have served.
   testing::ChildProcess first;
   std::string error;
-  ASSERT_TRUE(first.start({kSim, swarm, "--port", "0", "--no-view", "--paused"}, dir_, "first", error)) << error;
+  ASSERT_TRUE(first.start({kSim, swarm, "--port", "0", "--no-view", "--paused"}, dir_, "first", error))
+      << error;
   ASSERT_TRUE(first.wait_for("listening on ", false, kRunMs)) << first.err();
   const std::string out = first.out();
   const std::string at = out.substr(out.find("listening on ") + 13);
@@ -536,23 +544,15 @@ TEST_F(Divided, AThousandRobotsServedByTwoRanksAnswerAsInOneProcess) {
 
 // swarm-clients, one connection per robot, gathers a thousand robots in
 // clusters while two ranks run them: every robot keeps answering at its
-// address while robots move between the ranks.
+// address while robots move between the ranks. In lockstep (--steps): the
+// world is stepped once every robot decided, so the run is the same
+// however slow the machine (the sanitizer build included).
 TEST_F(Divided, SwarmClientsDriveAThousandRobotsSplitOverTwoRanks) {
-#if defined(__SANITIZE_ADDRESS__)
-  // Measured on 2 shared cores: built with AddressSanitizer, the leader
-  // steps this world at about 0.3x real time while serving 1,001
-  // connections, and swarm-clients' ground-truth requests outlast their
-  // 2 s timeout. The release build runs this test.
-  GTEST_SKIP() << "too slow under AddressSanitizer for swarm-clients' 2 s request timeout";
-#endif
   const std::string world = write("swarm1000.world", swarm1000_world());
-  // At 4x real time until 300 simulated s; the clients drive for 12 s of
-  // wall time once connected, then the run goes on as fast as it can to its
-  // end, where the leader prints the division's table. (Not started
-  // paused: a paused troupe-sim takes about a minute to accept a thousand
-  // connections on this machine, against 3 s running.)
+  // Paused until swarm-clients steps it; then run out to the quit time,
+  // where the leader prints the division's table.
   testing::ChildProcess sim;
-  serve(sim, dir_, world, 2, {"--speed", "4", "--quit-time", "300", "--rebalance-every", "0", "--profile"});
+  serve(sim, dir_, world, 2, {"--paused", "--quit-time", "12", "--rebalance-every", "0", "--profile"});
   ASSERT_FALSE(HasFatalFailure());
   const std::string host = served_at(sim);
   const std::string troupe = std::string(TROUPE_BINARY_DIR) + "/bin/troupe";
@@ -566,11 +566,11 @@ TEST_F(Divided, SwarmClientsDriveAThousandRobotsSplitOverTwoRanks) {
 
   testing::ChildProcess clients;
   std::string error;
-  ASSERT_TRUE(clients.start({SWARM_CLIENTS, host, "--seconds", "12"}, dir_, "clients", error)) << error;
+  ASSERT_TRUE(clients.start({SWARM_CLIENTS, host, "--steps", "100"}, dir_, "clients", error)) << error;
   EXPECT_EQ(clients.wait_exit(kRunMs), 0) << clients.out() << clients.err();
   const std::string seen = clients.out();
-  // Every robot's ranger delivered scans to its client to the end.
-  EXPECT_NE(seen.find("1000 of 1000 robots answered in the last second"), std::string::npos) << seen;
+  // Every robot's ranger delivered each step's scan to its client.
+  EXPECT_NE(seen.find("1000 of 1000 robots decided at each of 100 steps"), std::string::npos) << seen;
   // They gathered: each robot is nearer its nearest neighbour.
   const size_t start = seen.find("mean distance at the start "), end = seen.find("mean distance at the end ");
   ASSERT_NE(start, std::string::npos) << seen;
@@ -578,11 +578,15 @@ TEST_F(Divided, SwarmClientsDriveAThousandRobotsSplitOverTwoRanks) {
   EXPECT_LT(std::stod(seen.substr(end + 25)), std::stod(seen.substr(start + 27))) << seen;
 
   // Addressed by name after the run, robots on both sides still answer.
-  request({"req", host, "simulation:0", "pause"});
   for (const char* robot : {"b0", "b7", "b500", "b999"}) {
     const std::string pose = request({"echo", host, std::string(robot) + "/position2d:0", "--count", "1"});
     EXPECT_NE(pose.find("pose="), std::string::npos) << robot << ": " << pose;
   }
+  // Exactly 100 steps ran, and the crosser drove 10 m east, past the cut.
+  const std::string crosser = request({"req", host, "simulation:0", "getpose", "crosser"});
+  const size_t x = crosser.find("\"x\": ");
+  ASSERT_NE(x, std::string::npos) << crosser;
+  EXPECT_NEAR(std::stod(crosser.substr(x + 5)), 4.0, 1e-3) << crosser;
   request({"req", host, "simulation:0", "speed", "0"});
   request({"req", host, "simulation:0", "resume"});
   EXPECT_EQ(sim.wait_exit(kRunMs), 0) << sim.err();
