@@ -319,7 +319,11 @@ void Runner::reset_world() {
 }
 
 void Runner::release_followers() {
-  if (division_ && division_->first()) division_->sync(*world_, Division::Order::Stop);
+  if (!division_ || !division_->first()) return;
+  // What follow() does after a Stop, the collective steps matched.
+  division_->sync(*world_, Division::Order::Stop);
+  if (options_.profile) division_->report(*world_);
+  division_->any(false);
 }
 
 int Runner::follow() {
@@ -336,6 +340,7 @@ int Runner::follow() {
         break;
       case Division::Order::Stop:
         if (options_.profile) division_->report(*world_);
+        job_signalled_ = division_->any(false);  // the leader says whether it was
         return 0;
     }
   }
@@ -380,6 +385,7 @@ int Runner::run() {
   const double run_wall_s = double(now_ns() - start_ns) * 1e-9,
                run_cpu_s = double(process_cpu_ns() - start_cpu_ns) * 1e-9;
   if (division_ && options_.profile) divided = division_->report(*world_);
+  if (division_) job_signalled_ = division_->any(signalled_);
   progress(true);
   if (quit_time_reached()) {
     char why[96];

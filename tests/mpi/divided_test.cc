@@ -530,6 +530,77 @@ TEST_F(Divided, ClientsSeeOneWorldOnOnePortAtAnyRankCount) {
   for (int ranks : {2, 3}) EXPECT_EQ(session_at(dir_, world, ranks, cast), one) << ranks << " ranks";
 }
 
+// The same session with --log: what the leader's clients did (commands,
+// steps, a teleport across the cuts, a reset) reaches the robots' processes
+// as its journal, and the log, written by the leader from its mirror of
+// every robot, is the same bytes as one process's. The run then goes on
+// to its quit time unpaced and ends by itself.
+std::string served_log_at(const std::string& dir, const std::string& world, int ranks, const Cast& cast) {
+  const std::string log = dir + "/served" + std::to_string(ranks) + ".csv";
+  testing::ChildProcess sim;
+  serve(sim, dir, world, ranks, {"--paused", "--seed", "5", "--quit-time", "12", "--log", log});
+  if (::testing::Test::HasFatalFailure()) return "";
+  const std::string host = served_at(sim);
+  client_session(host, cast);
+  const std::string troupe = std::string(TROUPE_BINARY_DIR) + "/bin/troupe";
+  for (const char* order : {"speed", "resume"}) {
+    std::vector<std::string> argv = {troupe, "req", host, "simulation:0", order};
+    if (std::string(order) == "speed") argv.push_back("0");
+    const testing::ProgramResult r = testing::run_to_end(argv, kRunMs);
+    EXPECT_EQ(r.status, 0) << order << ": " << r.err;
+  }
+  EXPECT_EQ(sim.wait_exit(kRunMs), 0) << sim.err();
+  return read_file(log);
+}
+
+TEST_F(Divided, AServedRunLogsTheSameBytesAtOneTwoAndThreeRanksWhileClientsDriveIt) {
+  const std::string world = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
+  const Cast cast{"b7", "b0", "b99", "b50/fiducial:0"};
+  const std::string one = served_log_at(dir_, world, 0, cast);
+  // 73 steps of the session (30 + 40, a reset, 3), then to 12 s: 120.
+  ASSERT_GT(one.size(), 100u * (73 + 120) * 20) << "a line per robot per step";
+  // The commanded robots moved, and b7 was teleported: the log shows it.
+  EXPECT_NE(one.find(",b7,-6.2"), std::string::npos) << "no teleport in the log";
+  for (int ranks : {2, 3})
+    EXPECT_TRUE(served_log_at(dir_, world, ranks, cast) == one) << ranks << " ranks: the logs differ";
+}
+
+// mpirun stopped by SIGTERM (what Ctrl-C's SIGINT does too) passes SIGTERM
+// to every process: the run ends as one process's does. The leader stops,
+// sends the others its Stop order, the division's table is printed with
+// every process's row (it is collective: each ran its Stop), the log is
+// whole, and the processes leave without waiting on mpirun (before, one
+// of MPI's threads took the signal and each process died at once, table
+// and log lost). mpirun itself reports a job it was told to stop with
+// status 1, whatever its processes did; strace shows each exit with 0,
+// but a wrapper writing their statuses would race mpirun, which kills
+// what is left of the job as it ends.
+TEST_F(Divided, StoppedBySigtermTheLeaderStopsEveryProcessAndPrintsItsTable) {
+  const std::string world = std::string(TROUPE_SOURCE_DIR) + "/examples/worlds/swarm100.world";
+  // The controllers' run, 25 steps, in one process to its quit time.
+  const std::string one = run(world, 0, {"--quit-time", "2.5"});
+  const std::string log = dir_ + "/stopped.csv";
+  testing::ChildProcess sim;
+  std::string error;
+  ASSERT_TRUE(sim.start(join(mpirun(2), {kSim, world, "--port", "0", "--no-view", "--paused", "--seed", "5",
+                                         "--log", log, "--profile"}),
+                        dir_, "stopped", error))
+      << error;
+  ASSERT_TRUE(sim.wait_for("listening on ", false, kRunMs)) << sim.err();
+  const testing::ProgramResult steps = testing::run_to_end(
+      {std::string(TROUPE_BINARY_DIR) + "/bin/troupe", "req", served_at(sim), "simulation:0", "step", "25"},
+      kRunMs);
+  ASSERT_EQ(steps.status, 0) << steps.err;
+
+  EXPECT_EQ(sim.stop(), 1) << sim.err();
+  const std::string report = sim.err();
+  EXPECT_NE(report.find("Terminated: stopping"), std::string::npos) << report;  // SIGTERM, as strsignal says
+  EXPECT_NE(report.find("2 ranks"), std::string::npos) << "no division table: " << report;
+  EXPECT_EQ(world_mb(report).size(), 2u) << report;
+  EXPECT_NE(report.find("run: 25 steps"), std::string::npos) << report;
+  EXPECT_TRUE(read_file(log) == one) << "the log is not the 25 steps one process logs";
+}
+
 // packed1000.world: 1,000 robots in one block 0.25 m apart, 12 sonars
 // each; the first cut at 2 ranks falls at x = 0, between columns r19 and
 // r20 of its rows of 40.
