@@ -209,8 +209,7 @@ bool World::command(RobotId id, const Command& cmd) {
   Body& b = e_->bodies.at(id);
   if (!finite_pose(cmd.value)) return false;
   b.cmd = cmd;
-  if (e_->journal)
-    journal_pose(*e_->journal, cmd.mode == CommandMode::Goto ? Input::Goto : Input::Velocity, id, cmd.value);
+  if (e_->journal) journal_pose(*e_->journal, cmd.mode == CommandMode::Goto ? Input::Goto : Input::Velocity, id, cmd.value);
   return true;
 }
 

@@ -4,11 +4,12 @@
 #include <cstring>
 #include <string>
 
-#include "host-sim/sim_control/kicker_state.h"
-#include "host-sim/troupe_sim/sim_server.h"
 #include "wire/image.h"
 #include "wire/log.h"
 #include "wire/png.h"
+
+#include "host-sim/sim_control/kicker_state.h"
+#include "host-sim/troupe_sim/sim_server.h"
 
 namespace troupe::sim {
 
@@ -191,11 +192,10 @@ void SimServer::publish_camera(Device& d, std::optional<wire::ImageCompression> 
   if (v.step == UINT64_MAX || v.width == 0) return;
   if (!only && d.rate > 0 && d.last_image >= 0 && world_.time() - d.last_image < 1.0 / d.rate - 1e-9) return;
   std::string why;
-  if (!wire::image_fits(uint32_t(v.width), uint32_t(v.height), d.format,
-                        node_->options().limits.max_frame_bytes, why)) {
+  if (!wire::image_fits(uint32_t(v.width), uint32_t(v.height), d.format, node_->options().limits.max_frame_bytes,
+                        why)) {
     // Refused, never truncated; said once per configuration, not every step.
-    if (!d.refused_logged)
-      log_error("troupe-sim: camera of robot %s: %s", world_.robot(d.robot).name.c_str(), why.c_str());
+    if (!d.refused_logged) log_error("troupe-sim: camera of robot %s: %s", world_.robot(d.robot).name.c_str(), why.c_str());
     d.refused_logged = true;
     return;
   }
