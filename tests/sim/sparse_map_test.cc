@@ -43,6 +43,14 @@ void fill_seeded(StaticMap& map, double side, uint64_t seed) {
   }
 }
 
+// A square about `c` (m) turned by `a` (rad), its corners `r` m from `c`.
+std::vector<Vec2> turned_square(Vec2 c, double a, double r) {
+  std::vector<Vec2> square;
+  for (int k = 0; k < 4; ++k)
+    square.push_back({c.x + r * std::cos(a + k * kPi / 2), c.y + r * std::sin(a + k * kPi / 2)});
+  return square;
+}
+
 // A dense map large enough for its coarse level (2,400 x 2,400 cells) and a
 // sparse one, filled alike.
 struct Pair {
@@ -132,9 +140,7 @@ TEST(SparseMap, CollisionQueriesAndClearanceAgree) {
   for (int i = 0; i < 5000; ++i) {
     const Vec2 c{at(rng), at(rng)};
     const double a = ang(rng), r = 0.5 * len(rng);
-    std::vector<Vec2> square;
-    for (int k = 0; k < 4; ++k)
-      square.push_back({c.x + r * std::cos(a + k * kPi / 2), c.y + r * std::sin(a + k * kPi / 2)});
+    const std::vector<Vec2> square = turned_square(c, a, r);
     const bool hit = p.dense.overlaps(square);
     ASSERT_EQ(p.sparse.overlaps(square), hit) << "square " << i;
     overlapping += hit;
@@ -359,9 +365,7 @@ TEST(MapWindow, CastsAndCollidesInsideAsTheWholeMap) {
   for (int i = 0; i < 5000; ++i) {
     const Vec2 c{x_at(rng), y_at(rng)};
     const double a = ang(rng), r = 0.5 * len(rng);
-    std::vector<Vec2> square;
-    for (int k = 0; k < 4; ++k)
-      square.push_back({c.x + r * std::cos(a + k * kPi / 2), c.y + r * std::sin(a + k * kPi / 2)});
+    const std::vector<Vec2> square = turned_square(c, a, r);
     if (!Windows::inner(square[0]) || !Windows::inner(square[2])) continue;
     ASSERT_EQ(m.dense.overlaps(square), m.whole.overlaps(square)) << "square " << i;
     for (double enough : {0.0, 0.05, 1e300})
