@@ -355,7 +355,8 @@ class World {
   /// that steps robots there alone: rays, collisions and sensors there
   /// read what the whole map holds, while memory falls with the window.
   /// The grid, its origin and size stay the whole map's. False when the
-  /// map is small enough to be kept whole (it reads no coarse level).
+  /// window takes in the whole grid (or the map must be kept whole: a
+  /// small map asked to be sparse).
   bool keep_map_within(Vec2 lo, Vec2 hi);
 
   /// Appends everything of robot `id` that changes as it runs (pose,

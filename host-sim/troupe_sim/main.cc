@@ -36,7 +36,11 @@ int main(int argc, char** argv) {
 #ifdef TROUPE_HAVE_MPI
   if (comm) {
     divided = std::make_unique<troupe::sim::mpi::DividedWorld>(
-        *comm, troupe::sim::mpi::DividedWorld::Options{options.rebalance_every});
+        *comm, troupe::sim::mpi::DividedWorld::Options{
+                   .rebalance_every = options.rebalance_every,
+                   .balance_time = options.rebalance_by == "time",
+                   // Served, the viewer draws the whole map from the leader.
+                   .leader_holds_map = options.serve || !options.snapshot.empty()});
     division = divided.get();
     // One voice: the other processes say only what goes wrong.
     if (comm->rank() != 0) troupe::set_log_level(troupe::LogLevel::Warn);
