@@ -60,7 +60,7 @@ void rasterize_bitmap(StaticMap& map, const StaticDesc& s, const Pose& frame) {
 
 }  // namespace
 
-Engine::Engine(const WorldDesc& d, Random r) : desc(d), random(r) {
+Engine::Engine(WorldDesc d, Random r) : desc(std::move(d)), random(r) {
   ph_control = profile.define("control");
   ph_integrate = profile.define("integrate");
   ph_broadphase = profile.define("broadphase");

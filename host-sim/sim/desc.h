@@ -11,6 +11,7 @@
 
 #include "host-sim/robocup/physics/world.h"
 #include "host-sim/sim/geometry.h"
+#include "host-sim/sim/shared_list.h"
 #include "host-sim/world/diagnostics.h"
 #include "host-sim/world/png_image.h"
 
@@ -90,6 +91,8 @@ struct TransducerDesc {
   /// Bearing noise: each beam's direction moves uniformly within +-half of
   /// this, rad.
   double noise_angle = 0;
+
+  bool operator==(const TransducerDesc&) const = default;
 };
 
 struct RangerDesc {
@@ -99,6 +102,8 @@ struct RangerDesc {
   Pose pose;
   Vec2 size{0.15, 0.15};
   std::vector<TransducerDesc> transducers;
+
+  bool operator==(const RangerDesc&) const = default;
 };
 
 struct BlobfinderDesc {
@@ -311,7 +316,9 @@ struct RobotDesc {
   Pose odom_error{0.03, 0.03, 0.05};
 
   PowerDesc power;
-  std::vector<RangerDesc> rangers;
+  /// Shared by robots of one make-up (the loader gives robots of one type
+  /// one list); change one robot's through edit().
+  SharedList<RangerDesc> rangers;
   std::vector<BlobfinderDesc> blobfinders;
   std::vector<FiducialDesc> fiducials;
   std::vector<BumperDesc> bumpers;

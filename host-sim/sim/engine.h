@@ -153,7 +153,7 @@ struct StaticInfo {
 };
 
 struct Engine {
-  Engine(const WorldDesc& d, Random r);
+  Engine(WorldDesc d, Random r);
 
   // build.cc
   void build();

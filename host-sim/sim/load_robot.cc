@@ -92,6 +92,12 @@ void Loader::robot(const Entity& e, WorldDesc& out) {
   }
   power(e, r);
   for (const Entity& child : e.children) robot_part(child, {}, r);
+  // Robots of one type, written one after another, share their rangers.
+  if (r.rangers == last_rangers_) {
+    r.rangers = last_rangers_;
+  } else {
+    last_rangers_ = r.rangers;
+  }
   out.robots.push_back(std::move(r));
 }
 

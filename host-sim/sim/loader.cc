@@ -113,6 +113,13 @@ bool Loader::run(WorldDesc& out) {
       size_t(std::count_if(out.robots.begin(), out.robots.end(), [](const RobotDesc& o) { return !o.puck; }));
   world_properties(w, out);
   physics_ = out.physics;
+  // Room for every robot at once: growing by doubling would hold up to
+  // twice the robots' descriptions, and both buffers while it moves them.
+  // (Pucks, plain models until read, may still grow it.)
+  const auto robot_models = std::count_if(w.children.begin(), w.children.end(), [](const Entity& e) {
+    return model_kind(e.type) == ModelKind::Position || model_kind(e.type) == ModelKind::Ball;
+  });
+  out.robots.reserve(out.robots.size() + size_t(robot_models));
   std::map<std::string, world::SourceLoc> names;
   for (const Entity& e : w.children) {
     if (handoff_ && handoff_->take(e)) continue;

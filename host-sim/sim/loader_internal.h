@@ -94,9 +94,12 @@ class Loader {
   // named r<this>. Counted as they come, since counting them again for
   // each robot took most of a 100,000-robot world's load.
   size_t robots_ = 0;
+  // The last robot's rangers, for the next robot of the same make-up to
+  // share (a world of one robot type holds one list).
+  SharedList<RangerDesc> last_rangers_;
   ModelHandoff* handoff_;
-  int pucks_ = 0;  // unnamed pucks so far, for their default names
-  int balls_ = 0;  // unnamed balls so far, likewise
+  int pucks_ = 0;                         // unnamed pucks so far, for their default names
+  int balls_ = 0;                         // unnamed balls so far, likewise
   Physics physics_ = Physics::Kinematic;  // the world's, read before its models
 };
 

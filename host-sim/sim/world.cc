@@ -11,7 +11,7 @@
 
 namespace troupe::sim {
 
-World::World(const WorldDesc& desc, Random random) : e_(std::make_unique<Engine>(desc, random)) {}
+World::World(WorldDesc desc, Random random) : e_(std::make_unique<Engine>(std::move(desc), random)) {}
 World::~World() = default;
 
 std::unique_ptr<World> World::load(const std::string& path, uint64_t seed, world::Diagnostics& diags) {

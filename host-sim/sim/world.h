@@ -178,8 +178,10 @@ bool finite_pose(const Pose& p);
 
 class World {
  public:
-  /// Builds a world. `random` is the run's only source of randomness.
-  World(const WorldDesc& desc, Random random);
+  /// Builds a world, which keeps `desc` (a moved description is not
+  /// copied: a large world's is not held twice). `random` is the run's only
+  /// source of randomness.
+  World(WorldDesc desc, Random random);
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;

@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
 
   troupe::sim::Runner runner;
   diags = {};
-  const bool ok = runner.init(options, loaded.desc, diags, error, division);
+  const bool ok = runner.init(options, std::move(loaded.desc), diags, error, division);
   if (speaks) {
     for (const auto& d : diags.items()) std::fprintf(stderr, "%s\n", d.str().c_str());
   }

@@ -54,11 +54,11 @@ bool Runner::init(const SimOptions& options, world::Diagnostics& diags, std::str
                   Division* division) {
   WorldDesc desc;
   if (!load_world_file(options.world, desc, diags)) return false;
-  return init(options, desc, diags, error, division);
+  return init(options, std::move(desc), diags, error, division);
 }
 
-bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags,
-                  std::string& error, Division* division) {
+bool Runner::init(const SimOptions& options, WorldDesc desc, world::Diagnostics& diags, std::string& error,
+                  Division* division) {
   options_ = options;
   if (division) {
     // Devices presented as hardware live beside their robot's process.
@@ -71,7 +71,7 @@ bool Runner::init(const SimOptions& options, const WorldDesc& desc, world::Diagn
       return false;
     }
   }
-  world_ = std::make_unique<World>(desc, Random(options.seed));
+  world_ = std::make_unique<World>(std::move(desc), Random(options.seed));
 
   ControllerHost::Options copts;
   copts.search_path =

@@ -37,8 +37,9 @@ class Runner {
   bool init(const SimOptions& options, world::Diagnostics& diags, std::string& error,
             Division* division = nullptr);
   /// The same for options.world's description, already loaded (by the one
-  /// loader, host-sim/robocup/game/world_load.h).
-  bool init(const SimOptions& options, const WorldDesc& desc, world::Diagnostics& diags, std::string& error,
+  /// loader, host-sim/robocup/game/world_load.h). The world keeps `desc`:
+  /// pass it moved, so a large world is not held twice.
+  bool init(const SimOptions& options, WorldDesc desc, world::Diagnostics& diags, std::string& error,
             Division* division = nullptr);
   /// Runs until the quit time, request_stop(), or a fatal problem. Returns
   /// the process exit code: 0 when the run reached its quit time (however

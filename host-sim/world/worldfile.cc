@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include "host-sim/world/tokenizer.h"
 
@@ -30,6 +31,16 @@ struct Macro {
   std::string parent;
   SourceLoc loc;
   std::shared_ptr<const Body> body;
+};
+
+// A child model a define's body brings, expanded once: every later
+// instance shares it. Valid while the defines are those it was expanded
+// with (a define clears them all), at the same depth and with the same
+// defines being expanded around it, so sharing never changes a result.
+struct Expanded {
+  std::shared_ptr<const Entity> entity;
+  size_t models = 0;  // models in it, counted against the limit again
+  std::vector<std::string> expanding;
 };
 
 void set_property(Entity& e, const Property& p) {
@@ -71,6 +82,12 @@ class Parser {
   }
 
   bool parse_text(std::string_view text, const std::string& path, int depth) {
+    // Tokens view `text` and carry bare lines; their file is this one.
+    struct CurrentFile {
+      Parser& p;
+      std::shared_ptr<const std::string> saved;
+      ~CurrentFile() { p.file_ = saved; }
+    } restore{*this, file_};
     std::error_code ec;
     std::string key = fs::weakly_canonical(fs::path(path), ec).string();
     if (ec) key = path;
@@ -82,6 +99,7 @@ class Parser {
       }
     }
     auto file = std::make_shared<const std::string>(path);
+    file_ = file;
     std::vector<Token> tokens;
     if (!tokenize(text, file, tokens, diags_)) return false;
     include_stack_.push_back(key);
@@ -92,34 +110,36 @@ class Parser {
   }
 
  private:
+  SourceLoc at(const Token& t) const { return {file_, t.line}; }
+
   bool statements(const std::vector<Token>& t, size_t& i, const std::shared_ptr<const std::string>& file,
                   int depth) {
     while (i < t.size()) {
       const Token& tok = t[i];
       if (tok.kind != TokenKind::Word) {
-        diags_.error(tok.loc, "expected a property or a model, found " + describe(tok));
+        diags_.error(at(tok), "expected a property or a model, found " + describe(tok));
         return false;
       }
       if (tok.text == "include") {
         if (i + 1 >= t.size() || t[i + 1].kind != TokenKind::String) {
-          diags_.error(tok.loc, "include needs a quoted file name");
+          diags_.error(at(tok), "include needs a quoted file name");
           return false;
         }
         if (depth + 1 > limits_.max_include_depth) {
-          diags_.error(tok.loc, "includes nested deeper than " + std::to_string(limits_.max_include_depth));
+          diags_.error(at(tok), "includes nested deeper than " + std::to_string(limits_.max_include_depth));
           return false;
         }
         fs::path inc(t[i + 1].text);
         if (inc.is_relative()) inc = fs::path(*file).parent_path() / inc;
-        if (!parse_file(inc.string(), tok.loc, depth + 1)) return false;
+        if (!parse_file(inc.string(), at(tok), depth + 1)) return false;
         i += 2;
       } else if (tok.text == "define") {
         if (!define(t, i)) return false;
       } else if (i + 1 < t.size() && t[i + 1].kind == TokenKind::OpenEntity) {
         Item item;
         if (!entity_item(t, i, 1, item)) return false;
-        Entity e;
-        if (!expand(item.word, item.loc, *item.body, 1, e)) return false;
+        auto e = std::make_shared<Entity>();
+        if (!expand(item.word, item.loc, *item.body, false, 1, *e)) return false;
         root_.children.push_back(std::move(e));
       } else {
         Property p;
@@ -134,20 +154,23 @@ class Parser {
     const Token& def = t[i];
     if (i + 3 >= t.size() || t[i + 1].kind != TokenKind::Word || t[i + 2].kind != TokenKind::Word ||
         t[i + 3].kind != TokenKind::OpenEntity) {
-      diags_.error(def.loc, "define needs a name, a parent type and a body: define NAME PARENT ( ... )");
+      diags_.error(at(def), "define needs a name, a parent type and a body: define NAME PARENT ( ... )");
       return false;
     }
-    const std::string& name = t[i + 1].text;
-    Macro m{t[i + 2].text, def.loc, nullptr};
+    const std::string name(t[i + 1].text);
+    Macro m{std::string(t[i + 2].text), at(def), nullptr};
     i += 3;
     auto body = std::make_shared<Body>();
-    if (!body_items(t, i, 1, *body, def.loc, name)) return false;
+    if (!body_items(t, i, 1, *body, m.loc, name)) return false;
     m.body = std::move(body);
     auto [it, inserted] = macros_.emplace(name, m);
     if (!inserted) {
       // Stage looks macros up in definition order, so the first one wins.
-      diags_.warn(def.loc, "'" + name + "' is already defined at " + it->second.loc.str() +
-                               "; this definition is ignored");
+      diags_.warn(m.loc, "'" + name + "' is already defined at " + it->second.loc.str() +
+                             "; this definition is ignored");
+    } else {
+      // A new name may change what a define's body expands to.
+      expanded_.clear();
     }
     return true;
   }
@@ -155,7 +178,7 @@ class Parser {
   // t[i] is the type word, t[i+1] is '('.
   bool entity_item(const std::vector<Token>& t, size_t& i, int depth, Item& item) {
     item.word = t[i].text;
-    item.loc = t[i].loc;
+    item.loc = at(t[i]);
     if (depth > limits_.max_depth) {
       diags_.error(item.loc, "models nested deeper than " + std::to_string(limits_.max_depth));
       return false;
@@ -182,11 +205,11 @@ class Parser {
         return true;
       }
       if (tok.kind != TokenKind::Word) {
-        diags_.error(tok.loc, "expected a property or a model inside '" + what + "', found " + describe(tok));
+        diags_.error(at(tok), "expected a property or a model inside '" + what + "', found " + describe(tok));
         return false;
       }
       if (tok.text == "include" || tok.text == "define") {
-        diags_.error(tok.loc, "'" + tok.text + "' is only allowed outside models");
+        diags_.error(at(tok), "'" + std::string(tok.text) + "' is only allowed outside models");
         return false;
       }
       Item item;
@@ -194,7 +217,7 @@ class Parser {
         if (!entity_item(t, i, depth + 1, item)) return false;
       } else {
         item.is_property = true;
-        item.loc = tok.loc;
+        item.loc = at(tok);
         if (!property(t, i, item.prop)) return false;
       }
       out.push_back(std::move(item));
@@ -204,43 +227,48 @@ class Parser {
   // t[i] is the property name.
   bool property(const std::vector<Token>& t, size_t& i, Property& p) {
     p.name = t[i].text;
-    p.loc = t[i].loc;
+    p.loc = at(t[i]);
     ++i;
     if (i >= t.size()) {
       diags_.error(p.loc, "'" + p.name + "' has no value");
       return false;
     }
-    auto value_of = [](const Token& v) {
-      return Value{v.kind == TokenKind::String, v.number, v.text, v.loc};
+    auto value_of = [this](const Token& v) {
+      return Value{v.kind == TokenKind::String, v.number, std::string(v.text), at(v)};
     };
     const Token& v = t[i];
     if (v.kind == TokenKind::Number || v.kind == TokenKind::String) {
-      p.values.push_back(value_of(v));
+      p.values = ValueList({value_of(v)});
       ++i;
       return true;
     }
     if (v.kind != TokenKind::OpenTuple) {
-      diags_.error(v.loc,
+      diags_.error(at(v),
                    "'" + p.name + "' needs a number, a quoted string or a [tuple], found " + describe(v));
       return false;
     }
     p.tuple = true;
+    std::vector<Value> values;
     for (++i; i < t.size(); ++i) {
       if (t[i].kind == TokenKind::CloseTuple) {
         ++i;
+        p.values = ValueList(std::move(values));
         return true;
       }
       if (t[i].kind != TokenKind::Number && t[i].kind != TokenKind::String) {
-        diags_.error(t[i].loc, "a tuple holds numbers and quoted strings, found " + describe(t[i]));
+        diags_.error(at(t[i]), "a tuple holds numbers and quoted strings, found " + describe(t[i]));
         return false;
       }
-      p.values.push_back(value_of(t[i]));
+      values.push_back(value_of(t[i]));
     }
-    diags_.error(v.loc, "missing ']' for '" + p.name + "'");
+    diags_.error(at(v), "missing ']' for '" + p.name + "'");
     return false;
   }
 
-  bool expand(const std::string& word, const SourceLoc& loc, const Body& body, int depth, Entity& out) {
+  // `shared_body`: `body` is a define's (it lives as long as the parser),
+  // so its child models may be expanded once and shared.
+  bool expand(const std::string& word, const SourceLoc& loc, const Body& body, bool shared_body, int depth,
+              Entity& out) {
     if (depth > limits_.max_depth) {
       diags_.error(loc,
                    "models nested (or defines chained) deeper than " + std::to_string(limits_.max_depth));
@@ -254,7 +282,7 @@ class Parser {
         }
       }
       expanding_.push_back(word);
-      bool ok = expand(it->second.parent, it->second.loc, *it->second.body, depth + 1, out);
+      bool ok = expand(it->second.parent, it->second.loc, *it->second.body, true, depth + 1, out);
       expanding_.pop_back();
       if (!ok) return false;
     } else {
@@ -271,16 +299,45 @@ class Parser {
         set_property(out, item.prop);
         continue;
       }
-      Entity child;
-      if (!expand(item.word, item.loc, *item.body, depth + 1, child)) return false;
+      std::shared_ptr<const Entity> child;
+      if (shared_body && !shared_child(item, depth + 1, child)) return false;
+      if (!child) {
+        auto fresh = std::make_shared<Entity>();
+        if (!expand(item.word, item.loc, *item.body, shared_body, depth + 1, *fresh)) return false;
+        child = std::move(fresh);
+      }
       out.children.push_back(std::move(child));
     }
+    return true;
+  }
+
+  // `item` (a child model in a define's body) expanded at `depth` into
+  // `out`: the one expanded before when it still holds (see Expanded), else
+  // expanded now and kept. False after an error (reported). `out` stays
+  // null when the shared one would cross the model limit: expanding it
+  // afresh then reports the model where it does.
+  bool shared_child(const Item& item, int depth, std::shared_ptr<const Entity>& out) {
+    const auto key = std::make_pair(&item, depth);
+    if (auto it = expanded_.find(key); it != expanded_.end() && it->second.expanding == expanding_) {
+      if (models_ + it->second.models > limits_.max_models) return true;
+      models_ += it->second.models;
+      out = it->second.entity;
+      return true;
+    }
+    const size_t models_before = models_;
+    auto fresh = std::make_shared<Entity>();
+    if (!expand(item.word, item.loc, *item.body, true, depth, *fresh)) return false;
+    expanded_[key] = {fresh, models_ - models_before, expanding_};
+    out = std::move(fresh);
     return true;
   }
 
   Diagnostics& diags_;
   const ParseLimits& limits_;
   Entity& root_;
+  // The file being tokenized and parsed (includes nest).
+  std::shared_ptr<const std::string> file_;
+  std::map<std::pair<const Item*, int>, Expanded> expanded_;
   std::map<std::string, Macro, std::less<>> macros_;
   std::vector<std::string> include_stack_;
   std::vector<std::string> expanding_;
@@ -299,6 +356,14 @@ void warn_unused_in(const Entity& e, Diagnostics& diags) {
 }
 
 }  // namespace
+
+ValueList::ValueList(std::vector<Value> values)
+    : values_(values.empty() ? nullptr : std::make_shared<const std::vector<Value>>(std::move(values))) {}
+
+const Value& ValueList::at(size_t i) const {
+  if (i >= size()) throw std::out_of_range("ValueList::at");
+  return (*this)[i];
+}
 
 const Property* Entity::find(std::string_view name) const {
   for (const Property& p : properties) {

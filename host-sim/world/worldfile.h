@@ -13,9 +13,17 @@
 // (later assignments win) and its child models (appended). A model written as
 // `NAME ( more )` adds `more` the same way, so an instance extends its type.
 // As in Stage, a name is a macro only for models written after its define.
+//
+// Memory is linear in the file, not in the expanded world: a model a define
+// brings (a robot type's ranger and its sensors) is expanded once and shared
+// by every instance of the define, and a property's values are shared by
+// every model that inherits them. A 100,000-robot world of one robot type
+// costs what its 100,000 instance lines cost.
 #pragma once
 
 #include <cstddef>
+#include <iterator>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,14 +41,80 @@ struct Value {
   SourceLoc loc;
 };
 
+/// A property's values: immutable once parsed, and shared by every model
+/// that inherits the property from one define (copying it copies a pointer).
+class ValueList {
+ public:
+  ValueList() = default;
+  explicit ValueList(std::vector<Value> values);
+
+  size_t size() const { return values_ ? values_->size() : 0; }
+  bool empty() const { return size() == 0; }
+  const Value& operator[](size_t i) const { return (*values_)[i]; }
+  /// Throws std::out_of_range past the end, as std::vector::at.
+  const Value& at(size_t i) const;
+  const Value& front() const { return (*this)[0]; }
+  const Value& back() const { return (*this)[size() - 1]; }
+  const Value* begin() const { return values_ ? values_->data() : nullptr; }
+  const Value* end() const { return begin() + size(); }
+
+ private:
+  std::shared_ptr<const std::vector<Value>> values_;
+};
+
 struct Property {
   std::string name;
-  std::vector<Value> values;
+  ValueList values;
   /// Written as a tuple `[ ... ]` (even with one value).
   bool tuple = false;
   SourceLoc loc;
   /// Set by readers (Entity::find); properties nobody read are unknown keys.
+  /// A model shared by several instances shares this mark too: a key read
+  /// in one of them is known in all (they are one text in the file).
   mutable bool used = false;
+};
+
+struct Entity;
+
+/// A model's child models, in file order. A child that a define brings is
+/// one object shared by every instance of that define; the list holds
+/// shared pointers and iterates as plain `const Entity&`.
+class EntityList {
+ public:
+  using Pointers = std::vector<std::shared_ptr<const Entity>>;
+  class iterator {
+   public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = Entity;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const Entity*;
+    using reference = const Entity&;
+    iterator() = default;
+    explicit iterator(Pointers::const_iterator it) : it_(it) {}
+    reference operator*() const { return **it_; }
+    pointer operator->() const { return it_->get(); }
+    iterator& operator++() {
+      ++it_;
+      return *this;
+    }
+    iterator operator++(int) { return iterator(it_++); }
+    bool operator==(const iterator& o) const { return it_ == o.it_; }
+
+   private:
+    Pointers::const_iterator it_;
+  };
+
+  size_t size() const { return items_.size(); }
+  bool empty() const { return items_.empty(); }
+  const Entity& operator[](size_t i) const { return *items_[i]; }
+  /// Throws std::out_of_range past the end, as std::vector::at.
+  const Entity& at(size_t i) const { return *items_.at(i); }
+  iterator begin() const { return iterator(items_.begin()); }
+  iterator end() const { return iterator(items_.end()); }
+  void push_back(std::shared_ptr<const Entity> e) { items_.push_back(std::move(e)); }
+
+ private:
+  Pointers items_;
 };
 
 struct Entity {
@@ -51,7 +125,7 @@ struct Entity {
   /// Where the model was written.
   SourceLoc loc;
   std::vector<Property> properties;
-  std::vector<Entity> children;
+  EntityList children;
 
   /// The property, marked as used, or nullptr.
   const Property* find(std::string_view name) const;

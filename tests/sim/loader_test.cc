@@ -174,6 +174,76 @@ position ( name "a" pose [1 1 0] )
   EXPECT_EQ(w.statics.size(), 1u);  // the teleporter, as a plain model
 }
 
+TEST(Loader, RobotsOfOneMakeUpShareTheirRangersAndReadAsCopiesWould) {
+  // One robot type, two instances, and a third robot writing the same
+  // sensors out itself: all three hold one list of rangers, equal to what
+  // each robot's own copy would be, and changing one robot's leaves the
+  // others as they were.
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  WorldDesc w;
+  ASSERT_TRUE(load_text(R"(define ring ranger ( sensor ( pose [0.1 0 0 0] range [0 2] fov 15 )
+                     sensor ( pose [0 0.1 0 90] range [0 2] fov 15 ) )
+define bot position ( size [0.2 0.2 0.1] ring ( ) )
+bot ( name "a" pose [1 1 0 0] )
+bot ( name "b" pose [2 2 0 0] )
+position ( name "c" pose [3 3 0 0] size [0.2 0.2 0.1]
+  ranger ( sensor ( pose [0.1 0 0 0] range [0 2] fov 15 ) sensor ( pose [0 0.1 0 90] range [0 2] fov 15 ) ) )
+bot ( name "d" pose [4 4 0 0] ring ( ) )
+)",
+                        w, d, dir))
+      << d.str();
+  ASSERT_EQ(w.robots.size(), 4u);
+  const RobotDesc &a = w.robots[0], &b = w.robots[1], &c = w.robots[2], &e = w.robots[3];
+  EXPECT_TRUE(a.rangers.shares_with(b.rangers));
+  EXPECT_TRUE(b.rangers.shares_with(c.rangers));
+  ASSERT_EQ(c.rangers.size(), 1u);
+  ASSERT_EQ(c.rangers[0].transducers.size(), 2u);
+  EXPECT_NEAR(c.rangers[0].transducers[1].pose.a, 90 * kDeg, 1e-12);
+  EXPECT_DOUBLE_EQ(c.rangers[0].transducers[1].range_max, 2);
+  // A robot of another make-up (two rings) has its own.
+  ASSERT_EQ(e.rangers.size(), 2u);
+  EXPECT_FALSE(e.rangers.shares_with(a.rangers));
+  EXPECT_EQ(e.rangers[1], a.rangers[0]);
+
+  // The engine sees each robot's rangers as its own copy would give.
+  World world(w, Random(1));
+  uint32_t rangers = 0;
+  for (RobotId r = 0; r < world.robot_count(); ++r) rangers += world.robot(r).rangers.count;
+  EXPECT_EQ(rangers, 5u);
+  EXPECT_DOUBLE_EQ(world.ranger_desc(world.robot(1).rangers.first).transducers[0].pose.x, 0.1);
+
+  // Changing one robot's rangers gives it its own list.
+  w.robots[1].rangers.edit(0).transducers[0].range_max = 5;
+  EXPECT_DOUBLE_EQ(w.robots[1].rangers[0].transducers[0].range_max, 5);
+  EXPECT_DOUBLE_EQ(w.robots[0].rangers[0].transducers[0].range_max, 2);
+  EXPECT_DOUBLE_EQ(w.robots[2].rangers[0].transducers[0].range_max, 2);
+  EXPECT_FALSE(w.robots[1].rangers.shares_with(w.robots[0].rangers));
+  EXPECT_TRUE(w.robots[0].rangers.shares_with(w.robots[2].rangers));
+}
+
+TEST(Loader, AnUnknownKeyInARobotTypesSensorIsReportedForEveryRobotAsBefore) {
+  // A define's sensor is one object shared by its robots; the unknown key
+  // in it is still reported once per robot, at the define's line.
+  troupe::test::TempDir dir;
+  world::Diagnostics d;
+  WorldDesc w;
+  ASSERT_TRUE(load_text(R"(define bot position ( ranger ( sensor ( range [0 2] colour "red" ) ) )
+bot ( name "a" )
+bot ( name "b" )
+bot ( name "c" )
+)",
+                        w, d, dir))
+      << d.str();
+  size_t reported = 0;
+  for (const auto& item : d.items()) {
+    if (item.message.find("unknown key 'colour' for model type 'sensor'") == std::string::npos) continue;
+    ++reported;
+    EXPECT_EQ(item.loc.line, 1);
+  }
+  EXPECT_EQ(reported, 3u) << d.str();
+}
+
 TEST(Loader, BadValuesAreErrorsWithFileAndLine) {
   struct Case {
     const char* text;

@@ -59,7 +59,7 @@ WorldDesc packed_crowd(uint64_t seed, int n, double pitch) {
       r.rangers.push_back(ring);
     } else {
       r.rangers.push_back(test::laser(91, 1.5 * kPi, 4));
-      if (u(rng) < 0.5) r.rangers.back().transducers[0].noise_angle = 0.05;
+      if (u(rng) < 0.5) r.rangers.edit_back().transducers[0].noise_angle = 0.05;
     }
     d.robots.push_back(r);
   }

@@ -68,7 +68,7 @@ TEST(Ranger, RangeLimitsAndOtherRobots) {
   WorldDesc d = test::room(5, 3);
   RobotDesc r = test::robot("r0", {-1, 0, 0});
   r.rangers.push_back(test::laser(3, 60 * kDeg, 2.5));
-  r.rangers.back().transducers[0].range_min = 0.5;
+  r.rangers.edit_back().transducers[0].range_min = 0.5;
   d.robots.push_back(r);
   RobotDesc other = test::robot("r1", {1.5, 0, 0.3}, 0.4);
   other.look.ranger_return = 0.25;
@@ -134,7 +134,7 @@ TEST(Ranger, NoiseIsSeededAndOnlyOnReturns) {
   WorldDesc d = test::room(5, 3);
   RobotDesc r = test::robot("r0", {1, 0, 0});
   r.rangers.push_back(test::laser(90, kPi / 2, 4.5));
-  r.rangers.back().transducers[0].noise_variance = 0.01;  // sd 0.1 m
+  r.rangers.edit_back().transducers[0].noise_variance = 0.01;  // sd 0.1 m
   d.robots.push_back(r);
   World a(d, Random(7)), b(d, Random(7)), c(d, Random(8));
   RangerView va = scan(a, 0), vb = scan(b, 0), vc = scan(c, 0);
@@ -151,7 +151,7 @@ TEST(Ranger, NoiseIsSeededAndOnlyOnReturns) {
   EXPECT_GT(at_max, 0);
   EXPECT_GT(differ, 40);
   // Against the same world without noise: the errors have sd 0.1 m, mean 0.
-  d.robots[0].rangers[0].transducers[0].noise_variance = 0;
+  d.robots[0].rangers.edit(0).transducers[0].noise_variance = 0;
   World noiseless(d, Random(7));
   RangerView vn = scan(noiseless, 0);
   for (size_t i = 0; i < va.ranges.size(); ++i) {

@@ -194,6 +194,76 @@ TEST(WorldFile, ExponentialDefinesHitTheModelLimit) {
   EXPECT_TRUE(d.contains("more than 100000 models")) << d.str();
 }
 
+TEST(WorldFile, ADefinesChildModelsAreOneObjectSharedByItsInstances) {
+  // What makes a 100,000-robot world cost its instance lines, not 100,000
+  // copies of its robot type's sensors.
+  Diagnostics d;
+  WorldFile wf;
+  ASSERT_TRUE(wf.parse(R"(define ring ranger ( sensor ( range [0 2] ) sensor ( range [0 3] ) )
+define bot position ( size [0.2 0.2 0.1] ring ( ) )
+bot ( name "a" )
+bot ( name "b" ring ( ) )
+)",
+                       "mem.world", d))
+      << d.str();
+  const Entity& a = wf.root().children[0];
+  const Entity& b = wf.root().children[1];
+  ASSERT_EQ(a.children.size(), 1u);
+  ASSERT_EQ(b.children.size(), 2u);
+  // The define's ring: one object in both robots, sensors and all.
+  EXPECT_EQ(&a.children[0], &b.children[0]);
+  EXPECT_EQ(a.children[0].type, "ranger");
+  EXPECT_EQ(a.children[0].children.size(), 2u);
+  EXPECT_DOUBLE_EQ(num(a.children[0].children[1], "range", 1), 3);
+  // The ring b's own line adds is its own.
+  EXPECT_NE(&b.children[1], &b.children[0]);
+  EXPECT_EQ(b.children[1].loc.line, 4);
+  // Inherited values are shared too; each robot's own are its own.
+  EXPECT_EQ(a.find("size")->values.begin(), b.find("size")->values.begin());
+  EXPECT_EQ(a.find("name")->values[0].text, "a");
+  EXPECT_EQ(b.find("name")->values[0].text, "b");
+}
+
+TEST(WorldFile, ADefineBetweenInstancesChangesWhatLaterOnesExpandTo) {
+  // Sharing must not outlive the defines it was expanded with: `lidar` is
+  // a plain type for the first bot and a ranger for the second.
+  Diagnostics d;
+  WorldFile wf;
+  ASSERT_TRUE(wf.parse(R"(define bot position ( lidar ( ) )
+bot ( )
+define lidar ranger ( sensor ( range [0 8] ) )
+bot ( )
+)",
+                       "mem.world", d))
+      << d.str();
+  ASSERT_EQ(wf.root().children.size(), 2u);
+  EXPECT_EQ(wf.root().children[0].children.at(0).type, "lidar");
+  EXPECT_EQ(wf.root().children[0].children.at(0).children.size(), 0u);
+  EXPECT_EQ(wf.root().children[1].children.at(0).type, "ranger");
+  EXPECT_EQ(wf.root().children[1].children.at(0).written_type, "lidar");
+  EXPECT_EQ(wf.root().children[1].children.at(0).children.size(), 1u);
+}
+
+TEST(WorldFile, SharedModelsStillCountAgainstTheModelLimitWhereTheyCrossIt) {
+  // Three bots of a robot and two sensors are nine models: the limit of 8
+  // is crossed by the third bot's second sensor (line 1), as when every
+  // bot had its own copies.
+  Diagnostics d;
+  WorldFile wf;
+  ParseLimits limits;
+  limits.max_models = 8;
+  EXPECT_FALSE(wf.parse("define bot position ( sensor ( ) sensor ( ) )\nbot ( )\nbot ( )\nbot ( )\n",
+                        "mem.world", d, limits));
+  ASSERT_EQ(d.error_count(), 1u) << d.str();
+  EXPECT_TRUE(d.contains("more than 8 models")) << d.str();
+  EXPECT_EQ(d.items()[0].loc.line, 1);
+  // One fewer bot fits.
+  Diagnostics d2;
+  EXPECT_TRUE(
+      wf.parse("define bot position ( sensor ( ) sensor ( ) )\nbot ( )\nbot ( )\n", "mem.world", d2, limits))
+      << d2.str();
+}
+
 TEST(WorldFile, DeepNestingHitsTheDepthLimit) {
   std::string text;
   for (int i = 0; i < 200; ++i) text += "model ( ";
