@@ -56,13 +56,7 @@ void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slo
       const int i = int(next++);
       const double x = (q.origin.x - origin.x) * inv_res, y = (q.origin.y - origin.y) * inv_res;
       double t0 = 0, t1 = q.max_range * inv_res;
-      // A ray that starts and ends a cell or more inside the grid needs no
-      // clipping (the clip's four divisions would give t0 = 0 and leave
-      // t1: a cell is far beyond their rounding).
-      const double ex = x + q.dir.x * t1, ey = y + q.dir.y * t1;
-      const bool inside = std::min(x, ex) >= 1 && std::max(x, ex) < inner_x - 1 && std::min(y, ey) >= 1 &&
-                          std::max(y, ey) < inner_y - 1;
-      for (int axis = 0; axis < 2 && !inside; ++axis) {
+      for (int axis = 0; axis < 2; ++axis) {
         const double o = axis == 0 ? x : y, d = axis == 0 ? q.dir.x : q.dir.y,
                      hi = axis == 0 ? inner_x : inner_y;
         if (d == 0) {
