@@ -217,7 +217,7 @@ struct Engine {
   /// With the walls' ranges (m) in the ranger's slice of `ranges`: the
   /// robots, intensities, noise and limits.
   void finish_ranger(const PendingRanger& p, bool layer);
-  /// Starts loading what update_ranger() will read for the robot `item`.
+  /// Starts loading what queue_ranger() will read for the robot `item`.
   void prefetch_rangers(const SpatialHash::Item& item) const;
   /// Distance along a ray to robot j's outline, m; negative when missed.
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
@@ -237,9 +237,10 @@ struct Engine {
   void seen_from(RobotId j, Vec2 turn, Vec2 origin, SeenOutline& seen);
   /// ray_robot from the origin `seen` was made for: the same result.
   double ray_robot(RobotId j, const SeenOutline& seen, Vec2 dir) const;
-  /// Lowers the ranges (m) of ranger `rs`'s beams, cast as `queries` (from
-  /// transducer poses `poses`) with the walls' ranges in `out`, to the robots they meet first, and
-  /// sets those beams' intensities. Three ways to the same result: these
+  /// Lowers the ranges (m) of ranger `rs`'s beams, cast as `queries` from
+  /// its transducers' poses `poses` (world: m, m, rad), with the walls'
+  /// ranges in `out`, to the robots they meet first, and sets those beams'
+  /// intensities. Three ways to the same result: these
   /// two, and the layer's below.
   void beams_meet_candidates(const RangerState& rs, std::span<const RayQuery> queries,
                              std::span<const Pose> poses, float* out, float* inten);
@@ -380,7 +381,8 @@ struct Engine {
   // walls' ranges (m) of the batch's rays once cast.
   std::vector<PendingRanger> ranger_batch;
   std::vector<float> batch_ranges;
-  // The batch is cast once it holds this many rays.
+  // The batch is cast once it holds this many rays (64 and 1 ranger's
+  // measured slower on the scale rows; README, "Rangers cast in batches").
   static constexpr size_t kRangerBatchRays = 256;
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
