@@ -1,6 +1,8 @@
 #include "host-sim/mpi/comm.h"
 
 #include <mpi.h>
+#include <pthread.h>
+#include <signal.h>
 
 #include <chrono>
 #include <climits>
@@ -68,6 +70,17 @@ bool Comm::launched() {
 }
 
 Comm::Comm(int* argc, char*** argv) {
+  // mpirun stopped by SIGTERM or SIGINT passes SIGTERM on to every process
+  // (and SIGKILL a second later). The run loop takes it from a signalfd
+  // (troupe::StopOnSignal), which sees it only where it is blocked: in every
+  // thread, MPI's own included, so before MPI_Init starts them. Otherwise
+  // one of MPI's threads takes it and the process dies at once, the
+  // leader's table and the followers' Stop order lost.
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
   MPI_Init(argc, argv);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);

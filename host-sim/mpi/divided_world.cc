@@ -55,6 +55,7 @@ bool DividedWorld::start(World& world, std::string& error) {
   started_comm_s_ = comm_.seconds();
   started_wait_s_ = comm_.wait_seconds();
   started_mpi_cpu_s_ = comm_.cpu_seconds();
+  redrawn_work_s_ = work_s();
   return true;
 }
 
@@ -77,7 +78,7 @@ void DividedWorld::restart(World& world) {
 }
 
 void DividedWorld::fit_map(World& world) {
-  if (first() || comm_.size() == 1) return;
+  if ((first() && options_.leader_holds_map) || comm_.size() == 1) return;
   Vec2 lo, hi;
   tiles_.region(comm_.rank(), lo, hi);
   // What this rank's robots can reach: its region and the halo.
@@ -237,27 +238,47 @@ void DividedWorld::migrate(World& world) {
   std::sort(owned_.begin(), owned_.end());
 }
 
+double DividedWorld::work_s() const {
+  return double(process_cpu_ns()) * 1e-9 - comm_.cpu_seconds();
+}
+
 void DividedWorld::rebalance(World& world) {
+  // What a robot of this process has cost since the last redraw, s: the
+  // process's work shared out evenly (its region's robots are alike
+  // enough; the next redraw corrects what they are not).
+  const double work = work_s();
+  const double each = (work - redrawn_work_s_) / double(std::max<size_t>(owned_.size(), 1));
+  redrawn_work_s_ = work;
   Bytes mine;
+  put(mine, each);
   for (RobotId id : owned_) put(mine, centre(world, id));
   std::vector<Bytes> all;
   comm_.all_gather(mine, all);
   // Every rank orders the same centres the same way (Tiles sorts them),
   // so all draw the same tiles.
   std::vector<Vec2> centres;
+  std::vector<double> costs;
   for (const Bytes& b : all) {
     std::span<const std::byte> in(b);
+    double cost = 0;
+    if (!get(in, cost)) continue;
     Vec2 c;
-    while (get(in, c)) centres.push_back(c);
+    while (get(in, c)) {
+      centres.push_back(c);
+      costs.push_back(cost);
+    }
   }
-  tiles_ = Tiles::balanced(comm_.size(), centres);
+  tiles_ = options_.balance_time ? Tiles::balanced(comm_.size(), centres, costs)
+                                 : Tiles::balanced(comm_.size(), centres);
   ++rebalances_;
   fit_map(world);
 }
 
 void DividedWorld::after_step(World& world) {
   ++steps_;
-  if (options_.rebalance_every > 0 && steps_ % options_.rebalance_every == 0) rebalance(world);
+  const uint64_t every = options_.rebalance_every;
+  const bool first_look = options_.balance_time && steps_ == std::min(every, kFirstRedraw);
+  if (every > 0 && (steps_ % every == 0 || first_look)) rebalance(world);
   migrate(world);
 }
 

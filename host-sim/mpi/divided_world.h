@@ -24,7 +24,20 @@ class DividedWorld final : public Division {
     /// Steps between redrawing the regions around where the robots are
     /// (so each rank keeps about as many); 0: never.
     uint64_t rebalance_every = 100;
+    /// Regions of about equal measured step time (each process's work
+    /// since the last redraw, spread over its robots); false: of about as
+    /// many robots.
+    bool balance_time = false;
+    /// The leader holds the whole static map (it serves it to the viewer
+    /// or draws it in a snapshot); false: only its region's part, as the
+    /// other processes do.
+    bool leader_holds_map = true;
   };
+  /// Balanced by time, the first redraw comes this soon (steps) when
+  /// rebalance_every is longer: the first step times measured fix the
+  /// start's cut, drawn by robot count, before most of a short run has
+  /// passed.
+  static constexpr uint64_t kFirstRedraw = 10;
 
   DividedWorld(Comm& comm, Options options);
 
@@ -53,11 +66,13 @@ class DividedWorld final : public Division {
  private:
   /// Every robot's owner from the tiles; robots that change owner move.
   void migrate(World& world);
-  /// New tiles from every rank's robots, then migrate().
+  /// This process's work so far: CPU time outside MPI calls, s.
+  double work_s() const;
+  /// New tiles from every rank's robots (and their costs), then migrate().
   void rebalance(World& world);
-  /// Other ranks than the leader (which serves and draws the whole map)
-  /// hold the static map around their region only; rebuilt when a new
-  /// region needs more than the part held.
+  /// Ranks hold the static map around their region only (but a leader
+  /// that serves or draws the whole map); rebuilt when a new region needs
+  /// more than the part held.
   void fit_map(World& world);
   /// The ghosts of the last exchange back to absent.
   void forget_ghosts(World& world);
@@ -84,6 +99,8 @@ class DividedWorld final : public Division {
   uint64_t migrations_ = 0;  // robots this rank handed over
   uint64_t rebalances_ = 0;
   uint64_t map_builds_ = 0;
+  // This process's own work (CPU time outside MPI) at the last redraw, s.
+  double redrawn_work_s_ = 0;
   double started_s_ = 0;         // wall clock when start() ended (the world loaded), s
   uint64_t started_cpu_ns_ = 0;  // this process's CPU time then, ns
   // Comm's counters then: the report counts the run, not the start.

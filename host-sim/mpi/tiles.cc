@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace troupe::sim::mpi {
 namespace {
@@ -22,6 +23,30 @@ std::vector<double> quantile_cuts(std::vector<double>& values, int parts) {
     double cut = 0.5 * (below + values[at]);
     // Equal values on both sides leave an empty region; cuts must still
     // increase for owner() to be well defined.
+    if (!cuts.empty() && cut <= cuts.back()) cut = std::nextafter(cuts.back(), INFINITY);
+    cuts.push_back(cut);
+  }
+  return cuts;
+}
+
+// The same, each value weighing its cost: cut where the running cost
+// passes k / parts of the whole. Sorts `points` (value, cost).
+std::vector<double> weighted_cuts(std::vector<std::pair<double, double>>& points, int parts) {
+  std::sort(points.begin(), points.end());
+  double total = 0;
+  for (const auto& p : points) total += p.second;
+  std::vector<double> cuts;
+  size_t at = 0;
+  double below = 0;  // the cost of points[0, at)
+  for (int k = 1; k < parts; ++k) {
+    if (points.empty() || !(total > 0)) {
+      cuts.push_back(double(k));  // nothing to weigh: any increasing cuts do
+      continue;
+    }
+    const double want = total * double(k) / double(parts);
+    while (at + 1 < points.size() && below + points[at].second < want) below += points[at++].second;
+    const double before = at > 0 ? points[at - 1].first : points[at].first;
+    double cut = 0.5 * (before + points[at].first);
     if (!cuts.empty() && cut <= cuts.back()) cut = std::nextafter(cuts.back(), INFINITY);
     cuts.push_back(cut);
   }
@@ -52,6 +77,21 @@ Tiles Tiles::balanced(int ranks, std::span<const Vec2> points) {
   }
   t.x_cuts_ = quantile_cuts(xs, t.cols_);
   t.y_cuts_ = quantile_cuts(ys, t.rows_);
+  return t;
+}
+
+Tiles Tiles::balanced(int ranks, std::span<const Vec2> points, std::span<const double> costs) {
+  Tiles t = balanced(ranks, {});
+  std::vector<std::pair<double, double>> xs, ys;
+  xs.reserve(points.size());
+  ys.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const double c = i < costs.size() ? std::max(costs[i], 0.0) : 0.0;
+    xs.push_back({points[i].x, c});
+    ys.push_back({points[i].y, c});
+  }
+  t.x_cuts_ = weighted_cuts(xs, t.cols_);
+  t.y_cuts_ = weighted_cuts(ys, t.rows_);
   return t;
 }
 

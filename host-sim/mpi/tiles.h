@@ -18,6 +18,12 @@ class Tiles {
   /// centres, so each process steps about as many robots. Columns >= rows,
   /// as square as `ranks` allows (2: 2 x 1, 4: 2 x 2, 6: 3 x 2).
   static Tiles balanced(int ranks, std::span<const Vec2> points);
+  /// The same with a cost for each point (any unit, >= 0; as many as
+  /// points): each column and row holds about as much cost as the others.
+  /// A process's measured step time spread over its robots makes regions
+  /// of about equal step time where robots' costs differ (a crowd's
+  /// rangers see more robots than lone ones do).
+  static Tiles balanced(int ranks, std::span<const Vec2> points, std::span<const double> costs);
 
   int ranks() const { return cols_ * rows_; }
   int cols() const { return cols_; }

@@ -130,16 +130,17 @@ void Engine::build_statics() {
 void Engine::build_map(const Vec2* window) {
   const double res = desc.resolution;
   MapStorage storage = desc.map_storage;
-  if (window) {
-    // A map that reads its coarse level reads the same steps sparse; a
-    // smaller one is held whole (a few MB), since a sparse map would read
-    // steps it does not, and rays must not change by a bit.
+  if (window && storage == MapStorage::Sparse) {
+    // A sparse map always reads its coarse level: a map too small to read
+    // it dense would read other steps sparse, and rays must not change by
+    // a bit. Such a map is held whole (a few MB), dense.
     const double cells = std::ceil((map_hi.x - map_lo.x) / res) * std::ceil((map_hi.y - map_lo.y) / res);
-    if (cells < double(StaticMap::kCoarseFromCells)) window = nullptr;
-    else storage = MapStorage::Sparse;
+    if (cells < double(StaticMap::kCoarseFromCells)) {
+      window = nullptr;
+      storage = MapStorage::Dense;
+    }
   }
-  map.reset(map_lo, map_hi, res, storage);
-  if (window) map.set_window(window[0], window[1]);
+  map.reset(map_lo, map_hi, res, storage, window);
   for (size_t k = 0; k < desc.statics.size(); ++k) {
     const StaticDesc& s = desc.statics[k];
     const Pose frame = compose(s.pose, s.origin);
@@ -170,7 +171,7 @@ bool World::keep_map_within(Vec2 lo, Vec2 hi) {
   const double margin = (256 + StaticMap::kTile) * e.desc.resolution;
   const Vec2 window[2] = {lo - Vec2{margin, margin}, hi + Vec2{margin, margin}};
   e.build_map(window);
-  return e.map.sparse();
+  return e.map.windowed();
 }
 
 void Engine::build_robot(const RobotDesc& r) {

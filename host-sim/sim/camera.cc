@@ -97,7 +97,7 @@ void Engine::ray_spans(Vec2 o, Vec2 dir, double wall, double far, int ray, int r
 
 void Engine::update_cameras() {
   for (uint32_t index = 0; index < cameras.size(); ++index) {
-    if (!cameras[index].wanted || !owns(cameras[index].robot)) continue;
+    if (!due(cameras[index])) continue;
     render_camera(index);
     add_camera_noise(index);
   }

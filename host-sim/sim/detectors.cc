@@ -25,7 +25,7 @@ void Engine::update_blobfinders() {
   std::vector<double> dists;
   for (uint32_t index = 0; index < blobfinders.size(); ++index) {
     BlobState& st = blobfinders[index];
-    if (!st.wanted || !owns(st.robot)) continue;
+    if (!due(st)) continue;
     const BlobfinderDesc& d = desc.robots[st.robot].blobfinders[index - info[st.robot].blobfinders.first];
     const Pose at = compose(bodies[st.robot].pose, d.pose);
     const Vec2 o{at.x, at.y};
@@ -109,7 +109,7 @@ void Engine::update_blobfinders() {
 void Engine::update_fiducials() {
   for (uint32_t index = 0; index < fiducials.size(); ++index) {
     FiducialState& st = fiducials[index];
-    if (!st.wanted || !owns(st.robot)) continue;
+    if (!due(st)) continue;
     const FiducialDesc& d = desc.robots[st.robot].fiducials[index - info[st.robot].fiducials.first];
     const Pose at = compose(bodies[st.robot].pose, d.pose);
     const Vec2 o{at.x, at.y};
@@ -165,7 +165,7 @@ void Engine::update_fiducials() {
 void Engine::update_bumpers() {
   for (uint32_t index = 0; index < bumpers.size(); ++index) {
     BumperState& st = bumpers[index];
-    if (!st.wanted || !owns(st.robot)) continue;
+    if (!due(st)) continue;
     const BumperDesc& d = desc.robots[st.robot].bumpers[index - info[st.robot].bumpers.first];
     const Body& self = bodies[st.robot];
     // A robot stopped by a collision presses where it tried to go.

@@ -280,6 +280,12 @@ struct Engine {
   void step(World& world, World::StepExchange* exchange);
   /// This process steps robot i (World::Residence::Owned).
   bool owns(RobotId i) const { return residence.empty() || residence[i] == kOwned; }
+  /// A sensor the update now under way computes: wanted, on a robot this
+  /// process steps, and (World::refresh_new_sensors) not current already.
+  template <typename SensorState>
+  bool due(const SensorState& st) const {
+    return st.wanted && owns(st.robot) && !(new_sensors_only && st.step == steps);
+  }
   void publish_states();
   void outline(RobotId i, const Pose& at, std::vector<Vec2>& verts, std::vector<PolyRef>& polys) const;
 
@@ -295,6 +301,14 @@ struct Engine {
   std::unique_ptr<RigidBodies, RigidBodiesDelete> rigid;
   double time = 0;  // s
   uint64_t steps = 0;
+  // Something moved robots or changed a sensor since the last step (a
+  // teleport, a reset, the game layer, a camera's new size): a reading
+  // computed at this step may be out of date, so refresh_new_sensors()
+  // computes every wanted sensor until the next step.
+  bool changed_since_step = false;
+  // Set during refresh_new_sensors(): only wanted sensors not computed at
+  // this step are computed (due()).
+  bool new_sensors_only = false;
 
   std::vector<RobotInfo> info;
   std::vector<IndexRange> robot_rangers;  // info[i].rangers, compact for the sensor loop

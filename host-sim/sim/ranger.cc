@@ -230,7 +230,7 @@ void Engine::update_rangers() {
     if (n + kAhead < order.size()) prefetch_rangers(order[n + kAhead]);
     const IndexRange r = robot_rangers[order[n].index];
     for (uint32_t k = r.first; k < r.first + r.count; ++k) {
-      if (rangers[k].wanted && owns(rangers[k].robot)) queue_ranger(k);
+      if (due(rangers[k])) queue_ranger(k);
     }
   }
   cast_ranger_batch();

@@ -11,29 +11,18 @@
 #include <array>
 #include <cmath>
 
+#include "host-sim/sim/raycast_avx2.h"
 #include "host-sim/sim/static_map.h"
 
 namespace troupe::sim {
-
-namespace detail {
-// raycast_avx2.cc, on x86-64.
-// `codes` in blocks (StaticMap::index), `blocks_w` blocks per row; `coarse`
-// (a code per block) may be null: then it is not used.
-void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
-                     double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out);
-// The same on a sparse map: `slots` is its block table, `coarse` never null.
-void cast_batch_avx2_sparse(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w,
-                            int w, int h, Vec2 origin, double inv_res, double res,
-                            std::span<const RayQuery> rays, uint8_t mask, float* out);
-}  // namespace detail
 
 namespace {
 
 constexpr uint8_t kMarchFrom = StaticMap::kFreeBase + 3;   // march when >= 3 cells clear
 constexpr uint8_t kResumeFrom = StaticMap::kFreeBase + 4;  // stop walking when >= 4
 constexpr float kFar = 1e30f;
-// Rays stay this far inside the grid's far edges, so a position's cell is
-// always in the grid without clamping.
+// Rays stay this far inside the window's far edges, so a position's cell
+// is always in it without clamping.
 constexpr float kEdgeMargin = 1e-3f;
 
 constexpr std::array<float, 256> make_steps() {
@@ -61,7 +50,8 @@ struct Ray {
 }  // namespace
 
 bool StaticMap::clip(float ox, float oy, float dx, float dy, float& t0, float& t1) const {
-  const float lo[2] = {0, 0}, hi[2] = {float(w_) - kEdgeMargin, float(h_) - kEdgeMargin};
+  const float lo[2] = {float(wx0_), float(wy0_)},
+              hi[2] = {float(wx1_ + 1) - kEdgeMargin, float(wy1_ + 1) - kEdgeMargin};
   const float o[2] = {ox, oy}, d[2] = {dx, dy};
   for (int i = 0; i < 2; ++i) {
     if (d[i] == 0) {
@@ -94,18 +84,24 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
   // FMA, which every AVX2 processor but a few early ones has).
   static const bool kAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   if (kAvx2) {
-    if (sparse()) {
-      return detail::cast_batch_avx2_sparse(codes_.data(), coarse_.data(), slots_.data(), blocks_w_, w_, h_,
-                                            origin_, inv_res_, res_, rays, mask, out);
-    }
-    return detail::cast_batch_avx2(codes_.data(), use_coarse_ ? coarse_.data() : nullptr, blocks_w_, w_, h_,
-                                   origin_, inv_res_, res_, rays, mask, out);
+    const detail::CellStore store{codes_.data(),
+                                  use_coarse_ || sparse() ? coarse_.data() : nullptr,
+                                  sparse() ? slots_.data() : nullptr,
+                                  pitch_,
+                                  int(bias_),
+                                  wx0_,
+                                  wy0_,
+                                  wx1_ + 1,
+                                  wy1_ + 1};
+    if (sparse()) return detail::cast_batch_avx2_sparse(store, origin_, inv_res_, res_, rays, mask, out);
+    return detail::cast_batch_avx2(store, origin_, inv_res_, res_, rays, mask, out);
   }
 #endif
   constexpr int kLanes = 8;
   const uint8_t* g = codes_.data();
   const float res = float(res_);
-  const float inner_x = float(w_) - kEdgeMargin, inner_y = float(h_) - kEdgeMargin;
+  const float lo_x = float(wx0_), lo_y = float(wy0_);
+  const float inner_x = float(wx1_ + 1) - kEdgeMargin, inner_y = float(wy1_ + 1) - kEdgeMargin;
   size_t next = 0;
   // Rays of a fan share their origin: its cell's free radius is a first
   // step every one of them takes at once.
@@ -123,8 +119,8 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
       r.t_end = float(q.max_range * inv_res_);
       r.max_range = q.max_range;
       const float ex = r.ox + r.t_end * r.dx, ey = r.oy + r.t_end * r.dy;
-      const bool inside = r.ox >= 0 && r.oy >= 0 && r.ox < inner_x && r.oy < inner_y && ex >= 0 && ey >= 0 &&
-                          ex < inner_x && ey < inner_y;
+      const bool inside = r.ox >= lo_x && r.oy >= lo_y && r.ox < inner_x && r.oy < inner_y && ex >= lo_x &&
+                          ey >= lo_y && ex < inner_x && ey < inner_y;
       if (!inside && !clip(r.ox, r.oy, r.dx, r.dy, r.t, r.t_end)) {
         out[slot] = q.max_range;
         continue;
@@ -154,7 +150,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
   auto advance = [&](Ray& r, float& result) {
     if (!r.walking) {
       const float px = r.ox + r.t * r.dx, py = r.oy + r.t * r.dy;
-      const int ix = int(px), iy = int(py);  // clipped: px, py >= 0, so this is floor
+      const int ix = int(px), iy = int(py);  // clipped: px, py >= the window's corner >= 0, so floor
       const uint8_t c = g[index(ix, iy)];
       if (c >= kMarchFrom) {
         r.t += kStep[c];
@@ -185,7 +181,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
       r.entry = r.next_x;
       r.next_x += r.delta_x;
       r.ix += r.step_x;
-      if (r.ix < 0 || r.ix >= w_) {
+      if (r.ix < wx0_ || r.ix > wx1_) {
         result = r.max_range;
         return true;
       }
@@ -193,7 +189,7 @@ void StaticMap::cast_batch(std::span<const RayQuery> rays, uint8_t mask, float* 
       r.entry = r.next_y;
       r.next_y += r.delta_y;
       r.iy += r.step_y;
-      if (r.iy < 0 || r.iy >= h_) {
+      if (r.iy < wy0_ || r.iy > wy1_) {
         result = r.max_range;
         return true;
       }
@@ -252,12 +248,12 @@ float StaticMap::cast_per_cell(Vec2 origin, Vec2 dir, float max_range, uint8_t m
       entry = next_x;
       next_x += delta_x;
       ix += step_x;
-      if (ix < 0 || ix >= w_) return max_range;
+      if (ix < wx0_ || ix > wx1_) return max_range;
     } else {
       entry = next_y;
       next_y += delta_y;
       iy += step_y;
-      if (iy < 0 || iy >= h_) return max_range;
+      if (iy < wy0_ || iy > wy1_) return max_range;
     }
     if (entry >= t_end) return max_range;
   }

@@ -11,12 +11,13 @@
 //
 // Doubles throughout: the hair (1e-6 cell) must move a position across a
 // cell boundary even 100,000 cells from the grid's corner.
+#include "host-sim/sim/raycast_avx2.h"
+
 #include <immintrin.h>
 
 #include <algorithm>
 #include <cmath>
-
-#include "host-sim/sim/static_map.h"
+#include <cstdint>
 
 namespace troupe::sim::detail {
 
@@ -28,42 +29,46 @@ constexpr int kShift = StaticMap::kTileShift;
 constexpr int kLow = StaticMap::kTile - 1;  // a cell's place in its block
 
 template <bool kSparse>
-void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w, int w,
-                int h, Vec2 origin, double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask,
-                float* out) {
+void cast_lanes(const CellStore& map, Vec2 origin, double inv_res, double res, std::span<const RayQuery> rays,
+                uint8_t mask, float* out) {
+  const uint8_t* codes = map.codes;
+  const uint8_t* coarse = map.coarse;
+  const uint32_t* slots = map.slots;
+  const ptrdiff_t pitch = map.pitch, bias = map.bias;
   constexpr int kGroups = 4;  // groups of four rays: their chains overlap (3 or 5: slower)
   constexpr int kLanes = 4 * kGroups;
   alignas(32) double ox[kLanes], oy[kLanes], dx[kLanes], dy[kLanes], inv_x[kLanes], inv_y[kLanes];
   alignas(32) double wall_x[kLanes], wall_y[kLanes], t[kLanes], t_end[kLanes], big_x[kLanes], big_y[kLanes];
   int index[kLanes];
-  const double inner_x = w - kEdgeMargin, inner_y = h - kEdgeMargin;
+  const double lo_x = map.x0, lo_y = map.y0, inner_x = map.x1 - kEdgeMargin, inner_y = map.y1 - kEdgeMargin;
   size_t next = 0;
   int active = 0;
   double shared_ox = -1, shared_oy = -1, shared_t = 0;
   // A cell's code for marching: its block's when the block is clear.
   auto step_code = [&](size_t x, size_t y) {
-    const size_t block = (y >> kShift) * size_t(blocks_w) + (x >> kShift);
+    const size_t block = size_t(ptrdiff_t(y >> kShift) * pitch + ptrdiff_t(x >> kShift) - bias);
     if (coarse && coarse[block] >= kMarchFrom) return coarse[block];
     const size_t stored = kSparse ? size_t(slots[block]) : block;
     return codes[(stored << (2 * kShift)) + ((y & kLow) << kShift) + (x & kLow)];
   };
 
   // Loads the next ray that clipping does not settle into lane k, or parks
-  // the lane on cell (0, 0) going nowhere.
-  auto start = [&](int k) {
+  // the lane on the window's first cell going nowhere.
+  // Inlined: a call per ray costs a fifth of the caster's instructions.
+  auto start = [&](int k) __attribute__((always_inline)) {
     while (next < rays.size()) {
       const RayQuery& q = rays[next];
       const int i = int(next++);
       const double x = (q.origin.x - origin.x) * inv_res, y = (q.origin.y - origin.y) * inv_res;
       double t0 = 0, t1 = q.max_range * inv_res;
       for (int axis = 0; axis < 2; ++axis) {
-        const double o = axis == 0 ? x : y, d = axis == 0 ? q.dir.x : q.dir.y,
+        const double o = axis == 0 ? x : y, d = axis == 0 ? q.dir.x : q.dir.y, lo = axis == 0 ? lo_x : lo_y,
                      hi = axis == 0 ? inner_x : inner_y;
         if (d == 0) {
-          if (o < 0 || o >= hi) t1 = -1;
+          if (o < lo || o >= hi) t1 = -1;
           continue;
         }
-        double a = (0 - o) / d, b = (hi - o) / d;
+        double a = (lo - o) / d, b = (hi - o) / d;
         if (a > b) std::swap(a, b);
         t0 = std::max(t0, a);
         t1 = std::min(t1, b);
@@ -92,13 +97,19 @@ void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slo
       inv_y[k] = q.dir.y != 0 ? 1.0 / q.dir.y : 0.0;
       wall_x[k] = q.dir.x > 0 ? 1.0 : 0.0;
       wall_y[k] = q.dir.y > 0 ? 1.0 : 0.0;
-      // A direction without an x component never reaches an x boundary.
-      big_x[k] = q.dir.x != 0 ? 0.0 : 1e300;
-      big_y[k] = q.dir.y != 0 ? 0.0 : 1e300;
+      // A direction without an x component never reaches an x boundary;
+      // nor does one whose x moves less than a hair over the whole ray:
+      // from a position on a boundary, a step of a hair would not move it
+      // off in doubles, and it would step a hair at a time (seconds for a
+      // beam at 90 degrees from a robot on a cell's edge).
+      big_x[k] = std::fabs(q.dir.x) * t1 > kHair ? 0.0 : 1e300;
+      big_y[k] = std::fabs(q.dir.y) * t1 > kHair ? 0.0 : 1e300;
       index[k] = i;
       return true;
     }
-    ox[k] = oy[k] = dx[k] = dy[k] = inv_x[k] = inv_y[k] = wall_x[k] = wall_y[k] = 0;
+    ox[k] = lo_x;
+    oy[k] = lo_y;
+    dx[k] = dy[k] = inv_x[k] = inv_y[k] = wall_x[k] = wall_y[k] = 0;
     big_x[k] = big_y[k] = 0;
     t[k] = 0;
     t_end[k] = 1e300;
@@ -112,10 +123,17 @@ void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slo
   const __m256d far_from = _mm256_set1_pd(StaticMap::kFreeBase + 2.5);  // codes >= 5 march
   const __m128i maskv = _mm_set1_epi32(mask);
   const __m256d hair = _mm256_set1_pd(kHair), slack = _mm256_set1_pd(StaticMap::kFreeBase + 1.5);
-  const int* base = reinterpret_cast<const int*>(codes);
-  const int* coarse_base = reinterpret_cast<const int*>(coarse);
-  const int* slots_base = reinterpret_cast<const int*>(slots);
-  const __m128i blocks_width = _mm_set1_epi32(blocks_w), march_from = _mm_set1_epi32(kMarchFrom);
+  // A window's bias is folded into the addresses the gathers add their
+  // offsets to (only ever read at a cell of the window), so a step pays
+  // nothing for it. A sparse map's cells are found through its table.
+  auto before = [](const void* p, ptrdiff_t bytes) {
+    return reinterpret_cast<const int*>(reinterpret_cast<uintptr_t>(p) - uintptr_t(bytes));
+  };
+  const int* base = before(codes, kSparse ? 0 : bias << (2 * kShift));
+  const int* coarse_base = before(coarse, bias);
+  const int* slots_base = before(slots, bias * ptrdiff_t(sizeof(uint32_t)));
+  const __m128i blocks_width = _mm_set1_epi32(map.pitch);
+  const __m128i march_from = _mm_set1_epi32(kMarchFrom);
   struct Group {
     __m256d ox, oy, dx, dy, ix, iy, wx, wy, t, te, bx, by, live;
     __m256d fin, hit;  // lanes that ended, and of those, the ones that hit
@@ -240,15 +258,14 @@ void cast_lanes(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slo
 
 }  // namespace
 
-void cast_batch_avx2(const uint8_t* codes, const uint8_t* coarse, int blocks_w, int w, int h, Vec2 origin,
-                     double inv_res, double res, std::span<const RayQuery> rays, uint8_t mask, float* out) {
-  cast_lanes<false>(codes, coarse, nullptr, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
+void cast_batch_avx2(const CellStore& map, Vec2 origin, double inv_res, double res,
+                     std::span<const RayQuery> rays, uint8_t mask, float* out) {
+  cast_lanes<false>(map, origin, inv_res, res, rays, mask, out);
 }
 
-void cast_batch_avx2_sparse(const uint8_t* codes, const uint8_t* coarse, const uint32_t* slots, int blocks_w,
-                            int w, int h, Vec2 origin, double inv_res, double res,
+void cast_batch_avx2_sparse(const CellStore& map, Vec2 origin, double inv_res, double res,
                             std::span<const RayQuery> rays, uint8_t mask, float* out) {
-  cast_lanes<true>(codes, coarse, slots, blocks_w, w, h, origin, inv_res, res, rays, mask, out);
+  cast_lanes<true>(map, origin, inv_res, res, rays, mask, out);
 }
 
 }  // namespace troupe::sim::detail

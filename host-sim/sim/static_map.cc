@@ -41,7 +41,7 @@ uint8_t StaticMap::combined(uint8_t code, uint8_t add) {
   return add == 0 ? code : code_of(uint8_t(bits_of(code) | add));
 }
 
-void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage) {
+void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage, const Vec2* window) {
   res_ = resolution;
   inv_res_ = 1.0 / resolution;
   has_obstacles_ = false;
@@ -51,27 +51,39 @@ void StaticMap::reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage) {
   wx0_ = wy0_ = 0;
   wx1_ = w_ - 1;
   wy1_ = h_ - 1;
+  if (window) set_window(window[0], window[1]);
   // Whole blocks (the cells past the grid's edges stay free and are never
   // reached), and four bytes more: the vector caster reads a cell as the
   // low byte of a 32-bit load.
   blocks_w_ = (w_ + kTile - 1) >> kTileShift;
   blocks_h_ = (h_ + kTile - 1) >> kTileShift;
-  const size_t blocks = size_t(blocks_w_) * size_t(blocks_h_);
+  const int bx0 = wx0_ >> kTileShift, by0 = wy0_ >> kTileShift;
+  const size_t held_w = size_t((wx1_ >> kTileShift) - bx0 + 1),
+               held_h = size_t((wy1_ >> kTileShift) - by0 + 1);
+  const size_t held = held_w * held_h;
   constexpr size_t kBlockCells = size_t(1) << (2 * kTileShift);
   // A dense map's cells are found by 32-bit offsets: beyond 2^30 cells it
   // is sparse whatever was asked.
   const bool sparse = storage == MapStorage::Sparse ||
-                      (storage == MapStorage::Auto && blocks * kBlockCells >= kSparseFromCells) ||
-                      blocks * kBlockCells > (size_t(1) << 30);
-  coarse_.clear();
+                      (storage == MapStorage::Auto && held * kBlockCells >= kSparseFromCells) ||
+                      held * kBlockCells > (size_t(1) << 30);
+  // Fresh storage: a map built again as a window gives back what the
+  // whole map held.
+  decltype(codes_)().swap(codes_);
+  decltype(coarse_)().swap(coarse_);
+  decltype(slots_)().swap(slots_);
   free_slots_.clear();
   use_coarse_ = false;
   if (!sparse) {
-    slots_.clear();
-    codes_.assign((blocks << (2 * kTileShift)) + 4, kFree);
+    pitch_ = int(held_w);
+    bias_ = ptrdiff_t(by0) * pitch_ + bx0;
+    codes_.assign((held << (2 * kTileShift)) + 4, kFree);
     return;
   }
   // Every block starts as the uniform free block.
+  pitch_ = blocks_w_;
+  bias_ = 0;
+  const size_t blocks = size_t(blocks_w_) * size_t(blocks_h_);
   slots_.assign(blocks, kFree);
   codes_.resize(kUniformBlocks * kBlockCells);
   for (uint32_t c = 0; c < kUniformBlocks; ++c)
@@ -84,7 +96,7 @@ void StaticMap::mark(int ix, int iy, uint8_t add) {
   const uint8_t code = combined(*cell, add);
   if (code == *cell) return;  // already so: a shared block stays shared
   if (sparse()) {
-    const size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
+    const size_t block = block_number(ix >> kTileShift, iy >> kTileShift);
     if (slots_[block] < kUniformBlocks)
       cell = writable_block(block) + size_t((iy & (kTile - 1)) << kTileShift) + size_t(ix & (kTile - 1));
   }
@@ -125,8 +137,7 @@ void StaticMap::fill_polygon(std::span<const Vec2> poly, bool obstacle, bool vis
   }
   auto mark_span = [&](int iy, double xa, double xb) {
     int ix0 = std::max(wx0_, int(std::floor(xa + kEdgeSlack)));
-    int ix1 =
-        std::min(wx1_, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
+    int ix1 = std::min(wx1_, std::max(int(std::ceil(xb - kEdgeSlack)) - 1, int(std::floor(xa + kEdgeSlack))));
     for (int ix = ix0; ix <= ix1; ++ix) mark(ix, iy, add);
   };
   int row0 = std::max(wy0_, int(std::floor(ymin + kEdgeSlack)));
@@ -200,14 +211,18 @@ void StaticMap::finish() {
 void StaticMap::finish_dense() {
   // Exact Euclidean distance transform (Felzenszwalb-Huttenlocher): a
   // vertical pass in two row-order sweeps, then the lower envelope of
-  // parabolas along each row. Distances beyond 253 cells saturate.
-  const size_t w = size_t(w_), h = size_t(h_);
+  // parabolas along each row. Distances beyond 253 cells saturate. Over
+  // the cells held (a window's obstacles are all it knows of).
+  const int x0 = wx0_, y0 = wy0_;
+  const size_t w = size_t(wx1_ - wx0_ + 1), h = size_t(wy1_ - wy0_ + 1);
   std::vector<uint8_t> g(w * h);
   for (size_t y = 0; y < h; ++y) {
     uint8_t* gr = &g[y * w];
     const uint8_t* above = y > 0 ? &g[(y - 1) * w] : nullptr;
     for (size_t x = 0; x < w; ++x) {
-      gr[x] = code(int(x), int(y)) <= kBarrier ? 0 : (above ? uint8_t(std::min(255, above[x] + 1)) : 255);
+      gr[x] = code(x0 + int(x), y0 + int(y)) <= kBarrier
+                  ? 0
+                  : (above ? uint8_t(std::min(255, above[x] + 1)) : 255);
     }
   }
   for (size_t y = h - 1; y-- > 0;) {
@@ -220,15 +235,15 @@ void StaticMap::finish_dense() {
   for (size_t y = 0; y < h; ++y) {
     const uint8_t* gr = &g[y * w];
     for (size_t x = 0; x < w; ++x) f[x] = double(gr[x]) * double(gr[x]);
-    row.build(f.data(), w_);
-    for (int q = 0; q < w_; ++q) {
+    row.build(f.data(), int(w));
+    for (int q = 0; q < int(w); ++q) {
       const double d2 = row.at(q);
-      uint8_t& cell = codes_[index(q, int(y))];
+      uint8_t& cell = codes_[index(x0 + q, y0 + int(y))];
       if (cell > kBarrier) cell = distance_code(d2);
     }
   }
-  // The coarse level: a byte per block, four bytes longer for the vector
-  // caster's loads.
+  // The coarse level: a byte per block held, four bytes longer for the
+  // vector caster's loads.
   constexpr size_t kBlockCells = size_t(1) << (2 * kTileShift);
   const size_t blocks = (codes_.size() - 4) / kBlockCells;
   coarse_.assign(blocks + 4, kFree);
@@ -236,12 +251,15 @@ void StaticMap::finish_dense() {
     const uint8_t* cells = &codes_[b * kBlockCells];
     coarse_[b] = *std::min_element(cells, cells + kBlockCells);
   }
-  use_coarse_ = w * h >= kCoarseFromCells;
+  // Whether it is read follows the whole grid's size, held or not: a
+  // window reads the steps the whole map would.
+  use_coarse_ = size_t(w_) * size_t(h_) >= kCoarseFromCells;
 }
 
 void StaticMap::prefetch(Vec2 p, double r) const {
   const double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_, ru = r * inv_res_;
-  if (!(u - ru >= 0 && v - ru >= 0 && u + ru < w_ && v + ru < h_)) return;  // near the edge: not worth it
+  if (!(u - ru >= wx0_ && v - ru >= wy0_ && u + ru < wx1_ + 1 && v + ru < wy1_ + 1))
+    return;  // near the edge: not worth it
   const int bx0 = int(u - ru) >> kTileShift, bx1 = std::min(int(u + ru) >> kTileShift, bx0 + 2);
   const int by0 = int(v - ru) >> kTileShift, by1 = std::min(int(v + ru) >> kTileShift, by0 + 2);
   // A sparse block's cells are found through its table entry: loading the
@@ -250,7 +268,7 @@ void StaticMap::prefetch(Vec2 p, double r) const {
   const int shift = sparse() ? 2 : 2 * kTileShift;  // bytes per block: 4 (an entry) or 64 (its cells)
   for (int by = by0; by <= by1; ++by) {
     for (int bx = bx0; bx <= bx1; ++bx) {
-      const size_t block = size_t(by) * size_t(blocks_w_) + size_t(bx);
+      const size_t block = block_number(bx, by);
       if (use_coarse_) __builtin_prefetch(&coarse_[block]);
       __builtin_prefetch(cells + (block << shift));
     }
@@ -266,10 +284,10 @@ bool StaticMap::overlaps(std::span<const Vec2> poly, uint8_t mask) const {
     ymin = std::min(ymin, p.y);
     ymax = std::max(ymax, p.y);
   }
-  int ix0 = std::max(0, int(std::floor((xmin - origin_.x) * inv_res_)));
-  int ix1 = std::min(w_ - 1, int(std::floor((xmax - origin_.x) * inv_res_)));
-  int iy0 = std::max(0, int(std::floor((ymin - origin_.y) * inv_res_)));
-  int iy1 = std::min(h_ - 1, int(std::floor((ymax - origin_.y) * inv_res_)));
+  int ix0 = std::max(wx0_, int(std::floor((xmin - origin_.x) * inv_res_)));
+  int ix1 = std::min(wx1_, int(std::floor((xmax - origin_.x) * inv_res_)));
+  int iy0 = std::max(wy0_, int(std::floor((ymin - origin_.y) * inv_res_)));
+  int iy1 = std::min(wy1_, int(std::floor((ymax - origin_.y) * inv_res_)));
   for (int iy = iy0; iy <= iy1; ++iy) {
     for (int ix = ix0; ix <= ix1; ++ix) {
       uint8_t c = code(ix, iy);
@@ -287,7 +305,7 @@ bool StaticMap::segment_hits(Vec2 a, Vec2 b, uint8_t mask) const {
   if (len < 1e-12) {
     int ix = int(std::floor((a.x - origin_.x) * inv_res_)),
         iy = int(std::floor((a.y - origin_.y) * inv_res_));
-    if (ix < 0 || iy < 0 || ix >= w_ || iy >= h_) return false;
+    if (ix < wx0_ || iy < wy0_ || ix > wx1_ || iy > wy1_) return false;
     uint8_t c = code(ix, iy);
     return c <= kBarrier && ((mask >> c) & 1u);
   }
@@ -296,15 +314,15 @@ bool StaticMap::segment_hits(Vec2 a, Vec2 b, uint8_t mask) const {
 
 double StaticMap::clearance(Vec2 p, double enough) const {
   double u = (p.x - origin_.x) * inv_res_, v = (p.y - origin_.y) * inv_res_;
-  if (u < 0 || v < 0 || u >= w_ || v >= h_) {
-    double ex = std::max({0.0, -u, u - w_}), ey = std::max({0.0, -v, v - h_});
+  const double u0 = wx0_, v0 = wy0_, u1 = wx1_ + 1, v1 = wy1_ + 1;
+  if (u < u0 || v < v0 || u >= u1 || v >= v1) {
+    double ex = std::max({0.0, u0 - u, u - u1}), ey = std::max({0.0, v0 - v, v - v1});
     return std::hypot(ex, ey) * res_;
   }
   // A block's code is its smallest cell's: the same bound holds anywhere in
   // the block.
   if (use_coarse_) {
-    const uint8_t b =
-        coarse_[size_t(int(v) >> kTileShift) * size_t(blocks_w_) + size_t(int(u) >> kTileShift)];
+    const uint8_t b = coarse_[block_number(int(u) >> kTileShift, int(v) >> kTileShift)];
     const double bound = std::max(0.0, (double(b) - kFreeBase - 1.4143) * res_);
     if (bound > enough) return bound;
   }

@@ -23,6 +23,7 @@
 // they read on the dense map with its coarse level.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -62,12 +63,16 @@ class StaticMap {
   /// sparse or dense as `storage` says (Auto: sparse from
   /// kSparseFromCells cells on; beyond 2^30 cells always sparse, since a
   /// dense map's cells are found by 32-bit offsets). At most kMaxCells.
-  void reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage = MapStorage::Auto);
-
-  /// Fills only the cells within [lo, hi] (world frame, m) from here on,
-  /// on the same grid: a process of a divided world holds its own region
-  /// of a large map (a sparse map stores no block the fills leave empty).
-  void set_window(Vec2 lo, Vec2 hi);
+  ///
+  /// With a `window` ([lo, hi] corners, world frame, m) only the cells
+  /// within it are held, on the same grid: a process of a divided world
+  /// holds its own region of a large map. Dense, the window's blocks are
+  /// stored and nothing else (the size rules above count the window's
+  /// cells); sparse, no block the fills leave empty is stored. Rays,
+  /// clearances and overlaps read the window only, as if the grid ended at
+  /// its edges: the caller keeps every query inside it.
+  void reset(Vec2 lo, Vec2 hi, double resolution, MapStorage storage = MapStorage::Auto,
+             const Vec2* window = nullptr);
 
   /// Marks the cells a polygon (world frame) overlaps. `obstacle` and
   /// `visible` say what it is; overlapping marks combine.
@@ -101,10 +106,25 @@ class StaticMap {
   /// Where cell (ix, iy) is stored: its block's place (the block itself
   /// when dense), then its row in the block.
   size_t index(int ix, int iy) const {
-    size_t block = size_t(iy >> kTileShift) * size_t(blocks_w_) + size_t(ix >> kTileShift);
+    size_t block = block_number(ix >> kTileShift, iy >> kTileShift);
     if (!slots_.empty()) block = slots_[block];
     return (block << (2 * kTileShift)) + size_t((iy & (kTile - 1)) << kTileShift) + size_t(ix & (kTile - 1));
   }
+  /// Block (bx, by)'s number: its place in the coarse level, and in the
+  /// cells (dense) or the block table (sparse). Blocks in rows of
+  /// block_pitch(), less block_bias() (a dense window stores its own
+  /// blocks only).
+  size_t block_number(int bx, int by) const { return size_t(ptrdiff_t(by) * pitch_ + bx - bias_); }
+  int block_pitch() const { return pitch_; }
+  ptrdiff_t block_bias() const { return bias_; }
+  /// The cells held, inclusive: the whole grid unless reset() was given a
+  /// window.
+  int window_x0() const { return wx0_; }
+  int window_y0() const { return wy0_; }
+  int window_x1() const { return wx1_; }
+  int window_y1() const { return wy1_; }
+  /// True when reset() was given a window smaller than the grid.
+  bool windowed() const { return wx0_ > 0 || wy0_ > 0 || wx1_ < w_ - 1 || wy1_ < h_ - 1; }
   /// Maps from this many cells on (4 MiB, about a core's share of the
   /// mid-level cache) read the coarse level first.
   static constexpr size_t kCoarseFromCells = size_t(4) << 20;
@@ -146,7 +166,11 @@ class StaticMap {
   /// axis, holds no occupied cell; false before finish(). Lets a walk over
   /// every cell (a snapshot) pass a campus's open ground a block at a time.
   bool block_free(int bx, int by) const {
-    return !coarse_.empty() && coarse_[size_t(by) * size_t(blocks_w_) + size_t(bx)] > kBarrier;
+    // Blocks outside a window hold nothing this map knows of.
+    if (bx < wx0_ >> kTileShift || bx > wx1_ >> kTileShift || by < wy0_ >> kTileShift ||
+        by > wy1_ >> kTileShift)
+      return !coarse_.empty();
+    return !coarse_.empty() && coarse_[block_number(bx, by)] > kBarrier;
   }
   /// Bytes held.
   size_t memory_bytes() const {
@@ -171,15 +195,21 @@ class StaticMap {
   uint8_t* writable_block(size_t block);
   // Sparse: gives a block back to the pool if its cells are all alike.
   void release_if_uniform(size_t block);
-  // Clips the ray to the grid: [t0, t1) in cells. False when it misses.
+  // The window (inclusive cells) from its corners in the world, m.
+  void set_window(Vec2 lo, Vec2 hi);
+  // Clips the ray to the window: [t0, t1) in cells. False when it misses.
   bool clip(float ox, float oy, float dx, float dy, float& t0, float& t1) const;
 
   int w_ = 0, h_ = 0;
   double res_ = 0.02, inv_res_ = 50;
   Vec2 origin_;
-  // The cells fills may mark (set_window), inclusive: the whole grid
-  // unless told otherwise.
+  // The cells held (reset's window), inclusive: the whole grid unless
+  // told otherwise. Fills mark nothing outside, rays stop at its edges.
   int wx0_ = 0, wy0_ = 0, wx1_ = 0, wy1_ = 0;
+  // Blocks per row of stored blocks, and the number of the first stored
+  // block (block_number): blocks_w_ and 0 but for a dense window.
+  int pitch_ = 1;
+  ptrdiff_t bias_ = 0;
   std::vector<uint8_t, HugePageAllocator<uint8_t>> codes_;
   // The coarse level: per kTile x kTile block of cells, the smallest code
   // in it (an occupied code when the block holds an obstacle). Its march

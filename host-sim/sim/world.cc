@@ -89,6 +89,7 @@ void Engine::step(World& world, World::StepExchange* exchange) {
     e.publish_states();
   }
   e.update_sensors(laps);
+  e.changed_since_step = false;
   e.profile.count_step();
 }
 
@@ -96,6 +97,17 @@ void World::refresh_sensors() {
   e_->broadphase();
   PhaseLaps laps(e_->profile);
   e_->update_sensors(laps);
+}
+
+bool World::changed_since_step() const {
+  return e_->changed_since_step;
+}
+
+void World::refresh_new_sensors() {
+  Engine& e = *e_;
+  e.new_sensors_only = !e.changed_since_step;
+  refresh_sensors();
+  e.new_sensors_only = false;
 }
 
 void World::reset() {
@@ -112,6 +124,7 @@ void World::reset() {
   }
   e.steps = 0;
   e.time = 0;
+  e.changed_since_step = true;
   e.publish_states();
   e.broadphase();
 }
@@ -185,6 +198,7 @@ bool World::set_pose(RobotId id, const Pose& pose) {
   if (e.kinematics[id].localization == Localization::Gps)
     e.odom[id].estimate = relative(e.odom[id].origin, b.pose);
   if (e.rigid) e.sync_rigid(id);
+  e.changed_since_step = true;
   e.publish_states();
   e.broadphase();
   if (e.journal) journal_pose(*e.journal, Input::Teleport, id, pose);
@@ -351,7 +365,9 @@ robocup::BodyId World::rigid_static_body(size_t index) const {
 }
 
 void World::rigid_moved() {
-  if (e_->rigid) e_->rigid_moved();
+  if (!e_->rigid) return;
+  e_->rigid_moved();
+  e_->changed_since_step = true;
 }
 
 const StaticMap& World::map() const {
@@ -398,6 +414,7 @@ bool World::set_camera_size(uint32_t index, int width, int height) {
   CameraDesc& d = e_->desc.robots[r].cameras[index - e_->info[r].cameras.first];
   d.width = width;
   d.height = height;
+  e_->changed_since_step = true;
   if (e_->journal) journal_camera_size(*e_->journal, index, width, height);
   return true;
 }

@@ -196,6 +196,15 @@ class World {
   /// Computes the wanted sensors for the current state without moving
   /// anything (after load, a teleport, or a sensor becoming wanted).
   void refresh_sensors();
+  /// The same for the sensors that became wanted since they were last
+  /// computed (a paused world's new readers): a reading already computed
+  /// at this step stands, so each new reader costs its own sensor, not the
+  /// whole world's. After a teleport, reset(), rigid_moved() or a camera's
+  /// new size, every wanted sensor until the next step, as refresh_sensors().
+  void refresh_new_sensors();
+  /// True from a teleport, reset(), rigid_moved() or a camera's new size
+  /// until the next step: readings of this step may be out of date.
+  bool changed_since_step() const;
   /// Every robot back to its start (pose, velocity, odometry, battery) and
   /// the clock to 0.
   void reset();
@@ -346,7 +355,8 @@ class World {
   /// that steps robots there alone: rays, collisions and sensors there
   /// read what the whole map holds, while memory falls with the window.
   /// The grid, its origin and size stay the whole map's. False when the
-  /// map is small enough to be kept whole (it reads no coarse level).
+  /// window takes in the whole grid (or the map must be kept whole: a
+  /// small map asked to be sparse).
   bool keep_map_within(Vec2 lo, Vec2 hi);
 
   /// Appends everything of robot `id` that changes as it runs (pose,

@@ -36,7 +36,11 @@ int main(int argc, char** argv) {
 #ifdef TROUPE_HAVE_MPI
   if (comm) {
     divided = std::make_unique<troupe::sim::mpi::DividedWorld>(
-        *comm, troupe::sim::mpi::DividedWorld::Options{options.rebalance_every});
+        *comm, troupe::sim::mpi::DividedWorld::Options{
+                   .rebalance_every = options.rebalance_every,
+                   .balance_time = options.rebalance_by == "time",
+                   // Served, the viewer draws the whole map from the leader.
+                   .leader_holds_map = options.serve || !options.snapshot.empty()});
     division = divided.get();
     // One voice: the other processes say only what goes wrong.
     if (comm->rank() != 0) troupe::set_log_level(troupe::LogLevel::Warn);
@@ -169,10 +173,23 @@ int main(int argc, char** argv) {
     if (!error.empty()) std::fprintf(stderr, "%s: %s\n", program, error.c_str());
     return 1;
   }
-  troupe::StopOnSignal stop_on_signal(runner.node().loop(), [&runner] { runner.request_stop(); });
+  troupe::StopOnSignal stop_on_signal(runner.node().loop(), [&runner] { runner.request_stop_by_signal(); });
+  // A divided run ends by its run loop, on every process; stopped by a
+  // signal, without MPI_Finalize (Runner::stopped_by_signal()): the table
+  // and the log are out, what is left unsaid is goodbye to an mpirun that
+  // no longer listens.
+  auto finish = [&](int status) {
+#ifdef TROUPE_HAVE_MPI
+    if (comm && runner.stopped_by_signal()) {
+      std::fflush(nullptr);
+      std::_Exit(status);
+    }
+#endif
+    return status;
+  };
   // A divided run's other processes follow the leader, which alone
   // serves, prints and draws.
-  if (division && !division->first()) return runner.run();
+  if (division && !division->first()) return finish(runner.run());
   const troupe::sim::World& w = runner.world();
   size_t controlled = 0;
   // --no-ctrl leaves every robot to the wire, whatever the world file names.
@@ -204,5 +221,5 @@ int main(int argc, char** argv) {
     runner.release_followers();
     return 1;
   }
-  return runner.run();
+  return finish(runner.run());
 }

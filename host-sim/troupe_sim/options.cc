@@ -144,6 +144,12 @@ int parse_sim_options(int argc, const char* const* argv, SimOptions& out) {
                   "under mpirun: redraw the processes' regions every N steps (0: never)")
       ->type_name("N")
       ->group("Divided between processes (mpirun -np N troupe-sim ...)");
+  app->add_option("--rebalance-by", out.rebalance_by,
+                  "under mpirun: draw regions of about equal measured step time (time) or robot count "
+                  "(robots)")
+      ->check(CLI::IsMember({"time", "robots"}))
+      ->type_name("time|robots")
+      ->group("Divided between processes (mpirun -np N troupe-sim ...)");
 
   cli::add_log_level(*app);
 

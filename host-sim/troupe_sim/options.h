@@ -75,6 +75,9 @@ struct SimOptions {
   /// Under mpirun: steps between redrawing the processes' regions around
   /// where the robots are (0: never).
   uint64_t rebalance_every = 100;
+  /// Under mpirun: what the regions are drawn to share out evenly, "time"
+  /// (each process's measured step time) or "robots".
+  std::string rebalance_by = "robots";
   /// RoboCup worlds: console commands (robocup/game/console.h) from this
   /// file, or from standard input when `interactive`, run between cycles.
   /// The commands then decide how far the match runs, flat out, unserved.

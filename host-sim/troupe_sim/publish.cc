@@ -14,13 +14,21 @@
 namespace troupe::sim {
 
 void SimServer::publish() {
-  for (Device& d : devices_) {
-    if (!node_->has_readers(d.id)) continue;
-    if (d.kind == Kind::Camera) {
-      publish_camera(d);
-    } else {
-      publish_one(d);
-    }
+  woken_.clear();
+  for (Device& d : devices_) publish_if_read(d);
+}
+
+void SimServer::publish_woken() {
+  for (uint32_t i : woken_) publish_if_read(devices_[i]);
+  woken_.clear();
+}
+
+void SimServer::publish_if_read(Device& d) {
+  if (!node_->has_readers(d.id)) return;
+  if (d.kind == Kind::Camera) {
+    publish_camera(d);
+  } else {
+    publish_one(d);
   }
 }
 

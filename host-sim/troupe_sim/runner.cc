@@ -213,8 +213,19 @@ void Runner::serve(int64_t wait_us) {
   if (division_) woke = division_->pending();
   if (woke && control_.paused) {
     if (division_) division_->sync(*world_, Division::Order::Refresh);
+    // Robots moved while paused (a teleport, a reset): every reader gets
+    // the new readings. Otherwise only the new readers' sensors are new:
+    // a thousand clients connecting to a paused world cost a thousand
+    // sensors and samples, not a thousand times the world's.
+    const bool moved = world_->changed_since_step();
     refresh();
-    for (SimServer* s : servers_) s->publish();
+    for (SimServer* s : servers_) {
+      if (moved) {
+        s->publish();
+      } else {
+        s->publish_woken();
+      }
+    }
   }
 }
 
@@ -289,7 +300,7 @@ void Runner::step_once() {
 
 void Runner::refresh() {
   if (division_) division_->ghosts(*world_);
-  world_->refresh_sensors();
+  world_->refresh_new_sensors();
   if (mirror_) division_->mirror(*world_);
 }
 
@@ -308,7 +319,11 @@ void Runner::reset_world() {
 }
 
 void Runner::release_followers() {
-  if (division_ && division_->first()) division_->sync(*world_, Division::Order::Stop);
+  if (!division_ || !division_->first()) return;
+  // What follow() does after a Stop, the collective steps matched.
+  division_->sync(*world_, Division::Order::Stop);
+  if (options_.profile) division_->report(*world_);
+  division_->any(false);
 }
 
 int Runner::follow() {
@@ -325,6 +340,7 @@ int Runner::follow() {
         break;
       case Division::Order::Stop:
         if (options_.profile) division_->report(*world_);
+        job_signalled_ = division_->any(false);  // the leader says whether it was
         return 0;
     }
   }
@@ -369,6 +385,7 @@ int Runner::run() {
   const double run_wall_s = double(now_ns() - start_ns) * 1e-9,
                run_cpu_s = double(process_cpu_ns() - start_cpu_ns) * 1e-9;
   if (division_ && options_.profile) divided = division_->report(*world_);
+  if (division_) job_signalled_ = division_->any(signalled_);
   progress(true);
   if (quit_time_reached()) {
     char why[96];

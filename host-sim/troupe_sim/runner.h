@@ -49,6 +49,17 @@ class Runner {
   /// Safe from a signal handler. In a divided run the leader's stop ends
   /// the others' runs.
   void request_stop() { stop_ = true; }
+  /// request_stop() for SIGINT or SIGTERM: under mpirun that signal means
+  /// mpirun is ending the job (stopped_by_signal()).
+  void request_stop_by_signal() {
+    signalled_ = true;
+    stop_ = true;
+  }
+  /// After run() of a divided run: true on every process when the leader
+  /// stopped for a signal. mpirun, which passed it on, is then taking the
+  /// job down and no longer answers: MPI_Finalize would wait for it until
+  /// it kills the process, so the caller leaves without it.
+  bool stopped_by_signal() const { return job_signalled_; }
   /// A divided run's leader giving up before run(): the others stop too.
   void release_followers();
 
@@ -112,6 +123,8 @@ class Runner {
   std::deque<QueuedSteps> queued_steps_;
   double next_snapshot_ = 0;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> signalled_{false};  // request_stop_by_signal()
+  bool job_signalled_ = false;          // stopped_by_signal()
   RateMeter rate_;
   uint64_t progress_wall_us_ = 0;
   bool progress_shown_ = false;

@@ -99,7 +99,8 @@ const SimServer::Device* SimServer::find(DeviceId id) const {
 
 bool SimServer::sync_wanted() {
   bool woke = false;
-  for (const Device& d : devices_) {
+  for (uint32_t i = 0; i < devices_.size(); ++i) {
+    const Device& d = devices_[i];
     SensorKind kind;
     switch (d.kind) {
       case Kind::Ranger:
@@ -123,6 +124,7 @@ bool SimServer::sync_wanted() {
     const bool want = d.pinned || node_->has_readers(d.id);
     if (want != world_.wanted({kind, d.index})) {
       world_.set_wanted({kind, d.index}, want);
+      if (want) woken_.push_back(i);
       woke = woke || want;
     }
   }

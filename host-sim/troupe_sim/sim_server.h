@@ -57,6 +57,10 @@ class SimServer final : public Driver, private SimulationModels {
   bool sync_wanted();
   /// Publishes the latest data of every device someone reads.
   void publish();
+  /// Publishes only the sensors sync_wanted() found newly wanted, once
+  /// World::refresh_new_sensors() computed them: a paused world's older
+  /// readers hold their sample already and get nothing again.
+  void publish_woken();
 
   size_t device_count() const { return devices_.size(); }
 
@@ -83,14 +87,16 @@ class SimServer final : public Driver, private SimulationModels {
     bool motors_on = true;  // position2d only
     // camera only: what its images carry (SetConfig chooses).
     wire::PixelFormat format = wire::PixelFormat::Rgb8;
-    float rate = 0;                      // images per simulated second; 0: every step
-    double last_image = -1;              // simulated time of the last image sent, s
-    bool refused_logged = false;         // the too-large image was logged
+    float rate = 0;               // images per simulated second; 0: every step
+    double last_image = -1;       // simulated time of the last image sent, s
+    bool refused_logged = false;  // the too-large image was logged
   };
 
   void add(Node& node, Kind kind, RobotId robot, uint32_t index, wire::Interface iface, uint16_t local);
   const Device* find(DeviceId id) const;
   void publish_one(const Device& d);
+  /// publish_one(), or publish_camera(), when someone reads it.
+  void publish_if_read(Device& d);
   void publish_position(const Device& d);
   void publish_ranger(const Device& d);
   void publish_blobs(const Device& d);
@@ -125,6 +131,9 @@ class SimServer final : public Driver, private SimulationModels {
   Scope scope_;
   std::vector<Device> devices_;
   DeviceId first_ = kNoDevice;
+  // Indices into devices_ of the sensors sync_wanted() found newly wanted
+  // since the last publish.
+  std::vector<uint32_t> woken_;
   std::vector<uint16_t> scratch_ranges_;
   std::vector<wire::Pose2d> scratch_poses_;
   std::vector<uint8_t> scratch_cells_;

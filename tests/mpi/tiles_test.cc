@@ -2,11 +2,12 @@
 // point one owner and find the ranks that must see a robot as a ghost, and
 // a robot's running state as bytes, which a fresh copy of the world takes
 // up and steps on to the same bits.
+#include "host-sim/mpi/tiles.h"
+
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "host-sim/mpi/tiles.h"
 #include "host-sim/sim/world.h"
 #include "tests/sim/scenes.h"
 
@@ -48,6 +49,30 @@ TEST(Tiles, ShapesAreAsSquareAsTheRankCountAllows) {
   EXPECT_EQ(Tiles::balanced(6, p).rows(), 2);
   // One rank owns everything, however far.
   EXPECT_EQ(Tiles::balanced(1, p).owner({1e6, -1e6}), 0);
+}
+
+TEST(Tiles, CostsMoveTheCutsTowardTheCostlyRobots) {
+  // 100 robots 1 m apart along x; those beyond 50 m cost three times as
+  // much: half the cost lies below 50 + 50 / 3 m.
+  std::vector<Vec2> points;
+  std::vector<double> costs;
+  for (int i = 0; i < 100; ++i) {
+    points.push_back({i + 0.5, 0});
+    costs.push_back(i < 50 ? 1.0 : 3.0);
+  }
+  const Tiles t = Tiles::balanced(2, points, costs);
+  ASSERT_EQ(t.x_cuts().size(), 1u);
+  EXPECT_GT(t.x_cuts()[0], 65.0);
+  EXPECT_LT(t.x_cuts()[0], 68.0);
+  // Equal costs cut where counting does, within a robot's spacing.
+  const Tiles even = Tiles::balanced(4, points, std::vector<double>(100, 0.25));
+  const Tiles counted = Tiles::balanced(4, points);
+  for (size_t k = 0; k < even.x_cuts().size(); ++k) EXPECT_NEAR(even.x_cuts()[k], counted.x_cuts()[k], 1.0);
+  for (size_t k = 0; k < even.y_cuts().size(); ++k) EXPECT_NEAR(even.y_cuts()[k], counted.y_cuts()[k], 1.0);
+  // Nothing measured yet (no cost at all): still increasing cuts.
+  const Tiles none = Tiles::balanced(3, points, std::vector<double>(100, 0.0));
+  ASSERT_EQ(none.x_cuts().size(), 2u);
+  EXPECT_LT(none.x_cuts()[0], none.x_cuts()[1]);
 }
 
 TEST(Tiles, NearFindsEveryRegionWithinTheHaloAndOnlyThose) {

@@ -2,7 +2,9 @@
 // both: the same codes where rays read cells, the same coarse level, the
 // same ranges ray by ray (bit for bit: the casters take the same steps),
 // the same collisions and sensor readings in a whole world; and a map far
-// larger than a dense one could be, held in a fraction of its cells.
+// larger than a dense one could be, held in a fraction of its cells. And
+// a window of a map (what a process of a divided world holds), dense or
+// sparse: inside it, what the whole map answers.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -39,6 +41,14 @@ void fill_seeded(StaticMap& map, double side, uint64_t seed) {
       tri.push_back({c.x + r * std::cos(a + k * 2.1), c.y + r * std::sin(a + k * 2.1)});
     map.fill_polygon(tri, i % 2 == 0, true);
   }
+}
+
+// A square about `c` (m) turned by `a` (rad), its corners `r` m from `c`.
+std::vector<Vec2> turned_square(Vec2 c, double a, double r) {
+  std::vector<Vec2> square;
+  for (int k = 0; k < 4; ++k)
+    square.push_back({c.x + r * std::cos(a + k * kPi / 2), c.y + r * std::sin(a + k * kPi / 2)});
+  return square;
 }
 
 // A dense map large enough for its coarse level (2,400 x 2,400 cells) and a
@@ -130,9 +140,7 @@ TEST(SparseMap, CollisionQueriesAndClearanceAgree) {
   for (int i = 0; i < 5000; ++i) {
     const Vec2 c{at(rng), at(rng)};
     const double a = ang(rng), r = 0.5 * len(rng);
-    std::vector<Vec2> square;
-    for (int k = 0; k < 4; ++k)
-      square.push_back({c.x + r * std::cos(a + k * kPi / 2), c.y + r * std::sin(a + k * kPi / 2)});
+    const std::vector<Vec2> square = turned_square(c, a, r);
     const bool hit = p.dense.overlaps(square);
     ASSERT_EQ(p.sparse.overlaps(square), hit) << "square " << i;
     overlapping += hit;
@@ -275,6 +283,118 @@ TEST(SparseMap, AMapBeyondDenseSizesIsHeldInAFractionOfItsCells) {
   EXPECT_EQ(map.cast({1, 1}, {1, 0}, 250), 250);
   EXPECT_TRUE(map.occupied(int(20.05 / 0.01), int(154 / 0.01)));
   EXPECT_FALSE(map.occupied(int(25 / 0.01), int(154 / 0.01)));
+}
+
+// The whole dense map, and its window [6, 4]-[18, 20] m held dense and
+// sparse, filled alike.
+struct Windows {
+  static constexpr double kSide = 24, kRes = 0.01;
+  StaticMap whole, dense, sparse;
+  explicit Windows(uint64_t seed) {
+    const Vec2 window[2] = {{6, 4}, {18, 20}};
+    whole.reset({0, 0}, {kSide, kSide}, kRes, MapStorage::Dense);
+    dense.reset({0, 0}, {kSide, kSide}, kRes, MapStorage::Dense, window);
+    sparse.reset({0, 0}, {kSide, kSide}, kRes, MapStorage::Sparse, window);
+    for (StaticMap* m : {&whole, &dense, &sparse}) {
+      fill_seeded(*m, kSide, seed);
+      m->finish();
+    }
+  }
+  // Where a window reads what the whole map holds: the distance field
+  // saturates at 253 cells and a coarse block adds 8, so 2.64 m in.
+  static bool inner(Vec2 p) { return p.x >= 8.64 && p.x <= 15.36 && p.y >= 6.64 && p.y <= 17.36; }
+};
+
+TEST(MapWindow, HoldsOnlyItsBlocksAndTheWholeMapsCodesInside) {
+  Windows m(21);
+  EXPECT_FALSE(m.whole.windowed());
+  EXPECT_TRUE(m.dense.windowed());
+  EXPECT_FALSE(m.dense.sparse());
+  EXPECT_TRUE(m.sparse.sparse());
+  // The same grid and coarse reading as the whole map.
+  EXPECT_EQ(m.dense.width(), m.whole.width());
+  EXPECT_EQ(m.dense.origin().x, m.whole.origin().x);
+  EXPECT_EQ(m.dense.coarse(), m.whole.coarse());
+  // A third of the area (12 x 16 of 24 x 24 m), a third of the cells.
+  EXPECT_LT(m.dense.memory_bytes(), m.whole.memory_bytes() / 2);
+  EXPECT_GT(m.dense.memory_bytes(), m.whole.memory_bytes() / 4);
+  size_t obstacles = 0;
+  for (int y = 664; y <= 1736; ++y) {
+    for (int x = 864; x <= 1536; ++x) {
+      ASSERT_EQ(m.dense.code(x, y), m.whole.code(x, y)) << "cell " << x << ", " << y;
+      obstacles += m.whole.occupied(x, y);
+    }
+  }
+  EXPECT_GT(obstacles, 1000u);  // there is something to get wrong
+  // Beyond the window nothing is held: a snapshot's walk passes it.
+  EXPECT_TRUE(m.dense.block_free(0, 0));
+  EXPECT_TRUE(m.dense.block_free(2999 / 8, 2999 / 8));
+}
+
+TEST(MapWindow, CastsAndCollidesInsideAsTheWholeMap) {
+  Windows m(22);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> x_at(8.64, 15.36), y_at(6.64, 17.36), ang(-kPi, kPi), range(0.05, 4),
+      len(0.01, 1.5);
+  std::vector<RayQuery> rays;
+  while (rays.size() < 20000) {
+    const double a = ang(rng);
+    const RayQuery r{{x_at(rng), y_at(rng)}, {std::cos(a), std::sin(a)}, float(range(rng))};
+    if (Windows::inner(r.origin + double(r.max_range) * r.dir)) rays.push_back(r);
+  }
+  for (int i = 0; i < 360; ++i)
+    rays.push_back({{12, 12}, {std::cos(i * kPi / 180), std::sin(i * kPi / 180)}, 3});
+  std::vector<float> whole(rays.size()), dense(rays.size()), sparse(rays.size());
+  m.whole.cast_batch(rays, StaticMap::kRangerMask, whole.data());
+  m.dense.cast_batch(rays, StaticMap::kRangerMask, dense.data());
+  m.sparse.cast_batch(rays, StaticMap::kRangerMask, sparse.data());
+  size_t hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(dense[i], whole[i]) << "ray " << i;
+    ASSERT_EQ(sparse[i], whole[i]) << "ray " << i;
+    hits += whole[i] < rays[i].max_range;
+    if (i % 20 == 0) {
+      const RayQuery& r = rays[i];
+      ASSERT_EQ(m.dense.cast(r.origin, r.dir, r.max_range), whole[i]) << "ray " << i;
+      ASSERT_EQ(m.dense.cast_per_cell(r.origin, r.dir, r.max_range),
+                m.whole.cast_per_cell(r.origin, r.dir, r.max_range))
+          << "ray " << i;
+    }
+  }
+  EXPECT_GT(hits, rays.size() / 4);
+  for (int i = 0; i < 5000; ++i) {
+    const Vec2 c{x_at(rng), y_at(rng)};
+    const double a = ang(rng), r = 0.5 * len(rng);
+    const std::vector<Vec2> square = turned_square(c, a, r);
+    if (!Windows::inner(square[0]) || !Windows::inner(square[2])) continue;
+    ASSERT_EQ(m.dense.overlaps(square), m.whole.overlaps(square)) << "square " << i;
+    for (double enough : {0.0, 0.05, 1e300})
+      ASSERT_EQ(m.dense.clearance(c, enough), m.whole.clearance(c, enough)) << "point " << i;
+  }
+}
+
+TEST(MapWindow, RaysLeavingTheWindowEndAtItsEdge) {
+  Windows m(23);
+  // From inside across the edge, from outside in, and wholly outside: a
+  // window knows nothing beyond its edge, as a grid knows nothing beyond
+  // its own, and reads nothing there.
+  const std::vector<RayQuery> rays = {
+      {{12, 12}, {1, 0}, 20}, {{12, 12}, {0, -1}, 20}, {{1, 1}, {1, 0}, 30},      {{1, 12}, {1, 0}, 30},
+      {{23, 23}, {-1, 0}, 3}, {{30, 30}, {-1, 0}, 3},  {{12, 12}, {0.6, 0.8}, 40}};
+  for (const StaticMap* map : {&m.dense, &m.sparse}) {
+    std::vector<float> out(rays.size());
+    map->cast_batch(rays, StaticMap::kRangerMask, out.data());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const RayQuery& r = rays[i];
+      EXPECT_GE(out[i], 0) << "ray " << i;
+      EXPECT_LE(out[i], r.max_range) << "ray " << i;
+      EXPECT_EQ(map->cast(r.origin, r.dir, r.max_range), out[i]) << "ray " << i;
+      EXPECT_EQ(map->cast_per_cell(r.origin, r.dir, r.max_range), out[i]) << "ray " << i;
+    }
+    // Wholly outside the window: nothing there.
+    EXPECT_EQ(out[5], 3.0f);
+    EXPECT_EQ(out[4], 3.0f);
+  }
 }
 
 }  // namespace

@@ -5,14 +5,21 @@
 // neighbours). At the end it stops the robots and prints how far each is from
 // its nearest neighbour on average, from the simulator's ground truth.
 //
+// With --steps N it drives in lockstep instead of for a wall-clock time: the
+// simulator paused and stepped N times through simulation:0, each step once
+// every robot has decided on the last one's scan. The run is then the same
+// however fast the machine (tests use it).
+//
 //   troupe-sim examples/worlds/swarm100.world --no-ctrl &
 //   swarm-clients localhost --seconds 60
+//   swarm-clients localhost --steps 300
 #include <poll.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <random>
 #include <string>
@@ -40,7 +47,88 @@ struct Robot {
   // When its ranger last delivered a scan: a robot that stopped answering
   // (its connection or its simulator's process lost) shows at the end.
   std::chrono::steady_clock::time_point heard;
+  // Lockstep: the ranger's and fiducial finder's sample counts when the
+  // robot last decided.
+  uint64_t ranger_seen = 0, fiducial_seen = 0;
 };
+
+// Waits up to `ms` for traffic on every robot's connection and takes it.
+void pump(std::vector<Robot>& robots, int ms) {
+  std::vector<pollfd> fds;
+  std::vector<int> counts;
+  for (Robot& r : robots) {
+    pollfd f[2];
+    const int n = r.client->poll_fds(f, 2);
+    counts.push_back(n);
+    fds.insert(fds.end(), f, f + n);
+  }
+  poll(fds.data(), nfds_t(fds.size()), ms);
+  size_t at = 0;
+  for (size_t i = 0; i < robots.size(); ++i) {
+    robots[i].client->process(fds.data() + at, counts[i]);
+    at += size_t(counts[i]);
+  }
+}
+
+// The swarm behaviour on the robot's latest scan and neighbours: its next
+// velocity command.
+void decide(const SwarmParams& params, Robot& r, const std::function<double(int)>& random) {
+  r.heard = std::chrono::steady_clock::now();
+  r.in.ranges = r.ranger->ranges();
+  r.in.neighbours.clear();
+  if (r.fiducial) {
+    for (const auto& f : r.fiducial->fiducials()) r.in.neighbours.push_back({f.x(), f.y()});
+  }
+  const auto c = troupe::examples::swarm_decide(params, r.in, r.state, random);
+  r.base->set_velocity(float(c.v), 0, float(c.w));
+}
+
+// Lockstep: the simulator paused and stepped `steps` times, each step once
+// every robot decided on the previous one's scan and its command reached
+// the simulator. False with a message when a robot's scan or a step does
+// not come (the bound only ends a hang).
+bool drive_in_lockstep(const SwarmParams& params, std::vector<Robot>& robots,
+                       troupe::client::SimulationProxy& sim, uint32_t steps,
+                       const std::function<double(int)>& random) {
+  constexpr auto kHang = std::chrono::seconds(120);
+  if (!sim.pause()) {
+    std::fprintf(stderr, "swarm-clients: cannot pause the simulator\n");
+    return false;
+  }
+  for (uint32_t step = 0; step <= steps; ++step) {
+    // Each robot's scan (and neighbours) of this step: at step 0, the
+    // samples it got when it opened its devices.
+    const auto give_up = std::chrono::steady_clock::now() + kHang;
+    for (Robot& r : robots) {
+      auto has_scan = [&r] {
+        return r.ranger->samples() > r.ranger_seen &&
+               (!r.fiducial || r.fiducial->samples() > r.fiducial_seen);
+      };
+      while (!has_scan() && std::chrono::steady_clock::now() < give_up) pump(robots, 50);
+      if (!has_scan()) {
+        std::fprintf(stderr, "swarm-clients: %s: no scan of step %u\n", r.name.c_str(), step);
+        return false;
+      }
+      r.ranger_seen = r.ranger->samples();
+      r.fiducial_seen = r.fiducial ? r.fiducial->samples() : 0;
+    }
+    if (step == steps) return true;
+    for (Robot& r : robots) decide(params, r, random);
+    // A round trip on each connection: its command was handled before the
+    // step is asked for on another.
+    for (Robot& r : robots) {
+      if (!r.client->sync()) {
+        std::fprintf(stderr, "swarm-clients: %s: %s\n", r.name.c_str(), r.client->error().c_str());
+        return false;
+      }
+    }
+    if (!sim.step(1)) {
+      std::fprintf(stderr, "swarm-clients: step %u: %s\n", step + 1, sim.client().error().c_str());
+      return false;
+    }
+  }
+  return true;
+}
 
 double mean_distance(troupe::client::SimulationProxy& sim, const std::vector<Robot>& robots) {
   std::vector<troupe::client::Pose2> p(robots.size());
@@ -68,9 +156,10 @@ int main(int argc, char** argv) {
   SwarmParams params;
   params.spacing = 0.6;
   unsigned seed = 1;
+  uint32_t steps = 0;
   auto app = troupe::cli::make_app(
       "swarm-clients",
-      {"swarm-clients [HOST[:PORT]] [--seconds S] [--disperse] [--spacing M] [--seed N]",
+      {"swarm-clients [HOST[:PORT]] [--seconds S | --steps N] [--disperse] [--spacing M] [--seed N]",
        "Drives every robot of a troupe-sim world with the swarm behaviour, one client\n"
        "connection each, then prints how far each robot is from its nearest neighbour.\n",
        {"swarm-clients localhost --seconds 60", "swarm-clients localhost:7000 --disperse --spacing 1.5"}});
@@ -80,6 +169,11 @@ int main(int argc, char** argv) {
       ->check(troupe::cli::above(0));
   app->add_option("--spacing", params.spacing, "the distance robots keep, m (default 0.6)")
       ->type_name("M")
+      ->check(troupe::cli::above(0));
+  app->add_option("--steps", steps,
+                  "step the paused simulator N times, each once every robot decided (lockstep; "
+                  "instead of --seconds)")
+      ->type_name("N")
       ->check(troupe::cli::above(0));
   app->add_option("--seed", seed, "seeds each robot's random turns (default 1)")->type_name("N");
   bool disperse = false;
@@ -144,45 +238,33 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uniform(0, 1);
   auto random = [&](int) { return uniform(rng); };
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  std::vector<pollfd> fds;
-  size_t decisions = 0;
-  while (std::chrono::steady_clock::now() < end) {
-    fds.clear();
-    std::vector<int> counts;
-    for (Robot& r : robots) {
-      pollfd f[2];
-      int n = r.client->poll_fds(f, 2);
-      counts.push_back(n);
-      fds.insert(fds.end(), f, f + n);
-    }
-    poll(fds.data(), nfds_t(fds.size()), 50);
-    size_t at = 0;
-    for (size_t i = 0; i < robots.size(); ++i) {
-      robots[i].client->process(fds.data() + at, counts[i]);
-      at += size_t(counts[i]);
-    }
-    // A decision whenever a robot's ranger has a new sample.
-    for (Robot& r : robots) {
-      if (!r.ranger->fresh()) continue;
-      r.heard = std::chrono::steady_clock::now();
-      r.in.ranges = r.ranger->ranges();
-      r.in.neighbours.clear();
-      if (r.fiducial) {
-        for (const auto& f : r.fiducial->fiducials()) r.in.neighbours.push_back({f.x(), f.y()});
+  size_t answering = 0, decisions = 0;
+  if (steps > 0) {
+    if (!drive_in_lockstep(params, robots, sim, steps, random)) return 1;
+    answering = robots.size();  // every robot, at every step, or it failed
+    decisions = robots.size() * steps;
+  } else {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      pump(robots, 50);
+      // A decision whenever a robot's ranger has a new sample.
+      for (Robot& r : robots) {
+        if (!r.ranger->fresh()) continue;
+        decide(params, r, random);
+        ++decisions;
       }
-      const auto c = troupe::examples::swarm_decide(params, r.in, r.state, random);
-      r.base->set_velocity(float(c.v), 0, float(c.w));
-      ++decisions;
     }
+    for (const Robot& r : robots) answering += end - r.heard <= std::chrono::seconds(1) ? 1 : 0;
   }
-  size_t answering = 0;
-  for (const Robot& r : robots) answering += end - r.heard <= std::chrono::seconds(1) ? 1 : 0;
   for (Robot& r : robots) r.base->set_velocity(0, 0, 0);
   for (Robot& r : robots) r.client->sync();
   const double after = mean_distance(sim, robots);
   std::printf("%zu decisions; mean distance at the end %.2f m (%s)\n", decisions, after,
               params.aggregate ? "aggregate" : "disperse");
-  std::printf("%zu of %zu robots answered in the last second\n", answering, robots.size());
+  if (steps > 0) {
+    std::printf("%zu of %zu robots decided at each of %u steps\n", answering, robots.size(), unsigned(steps));
+  } else {
+    std::printf("%zu of %zu robots answered in the last second\n", answering, robots.size());
+  }
   return before < 0 || after < 0 ? 1 : 0;
 }
