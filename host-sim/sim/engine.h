@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "host-sim/sim/desc.h"
@@ -200,8 +201,23 @@ struct Engine {
   bool meets_robot(RobotId i, const Pose& pi, bool& have_own, RobotId j, const Pose& pj);
   // ranger.cc
   void update_rangers();
-  void update_ranger(uint32_t index);
-  /// Starts loading what update_ranger() will read for the robot `item`.
+  /// A ranger waiting in the batch: its rays are ray_queries from
+  /// query_first, its transducers' poses transducer_poses from pose_first.
+  struct PendingRanger {
+    uint32_t ranger, query_first, pose_first;
+  };
+  /// Updates ranger `index`: its rays join the batch (or, for the layer's
+  /// way, are cast at once), to be finished when the batch is cast.
+  void queue_ranger(uint32_t index);
+  /// Appends ranger `index`'s rays and transducer poses to the batch's;
+  /// true when its beams find robots through the layer.
+  bool aim_ranger(uint32_t index);
+  /// Casts every ray of the batch, then finishes each ranger in it.
+  void cast_ranger_batch();
+  /// With the walls' ranges (m) in the ranger's slice of `ranges`: the
+  /// robots, intensities, noise and limits.
+  void finish_ranger(const PendingRanger& p, bool layer);
+  /// Starts loading what queue_ranger() will read for the robot `item`.
   void prefetch_rangers(const SpatialHash::Item& item) const;
   /// Distance along a ray to robot j's outline, m; negative when missed.
   double ray_robot(RobotId j, Vec2 origin, Vec2 dir) const;
@@ -221,16 +237,18 @@ struct Engine {
   void seen_from(RobotId j, Vec2 turn, Vec2 origin, SeenOutline& seen);
   /// ray_robot from the origin `seen` was made for: the same result.
   double ray_robot(RobotId j, const SeenOutline& seen, Vec2 dir) const;
-  /// Lowers the ranges (m) of ranger `rs`'s beams, cast as ray_queries
-  /// with the walls' ranges in `out`, to the robots they meet first, and
-  /// sets those beams' intensities. Three ways to the same result: these
+  /// Lowers the ranges (m) of ranger `rs`'s beams, cast as `queries` from
+  /// its transducers' poses `poses` (world: m, m, rad), with the walls'
+  /// ranges in `out`, to the robots they meet first, and sets those beams'
+  /// intensities. Three ways to the same result: these
   /// two, and the layer's below.
-  void beams_meet_candidates(const RangerState& rs, float* out, float* inten);
-  void beams_meet_every(const RangerState& rs, float* out, float* inten);
+  void beams_meet_candidates(const RangerState& rs, std::span<const RayQuery> queries,
+                             std::span<const Pose> poses, float* out, float* inten);
+  void beams_meet_every(const RangerState& rs, std::span<const RayQuery> queries, float* out, float* inten);
   /// The layer's way, before the walls are cast: finds the robots each of
-  /// ray_queries meets first (robot_hits, beam_hits), not counting robot
+  /// `queries` meets first (robot_hits, beam_hits), not counting robot
   /// self_robot, and shortens the queries to end just past them.
-  void layer_hits_first();
+  void layer_hits_first(std::span<RayQuery> queries);
   /// After the walls are cast (out, m): lowers the ranges to the robots
   /// found first, and sets those beams' intensities.
   void settle_layer_hits(float* out, float* inten);
@@ -373,6 +391,13 @@ struct Engine {
   RobotId self_robot = 0;  // the robot whose ranger layer_hits_first() casts for
   std::vector<float> wall_ranges;
   std::vector<Pose> transducer_poses;
+  // Rangers whose rays wait to be cast together (update_rangers), and the
+  // walls' ranges (m) of the batch's rays once cast.
+  std::vector<PendingRanger> ranger_batch;
+  std::vector<float> batch_ranges;
+  // The batch is cast once it holds this many rays (64 and 1 ranger's
+  // measured slower on the scale rows; README, "Rangers cast in batches").
+  static constexpr size_t kRangerBatchRays = 256;
   std::vector<Vec2> scratch_verts, scratch_verts2;
   std::vector<PolyRef> scratch_polys, scratch_polys2;
   struct Span {

@@ -222,17 +222,22 @@ void Engine::update_rangers() {
   constexpr size_t kAhead = 4;
   const std::span<const SpatialHash::Item> order = hash.order();
   robot_layer_fresh = false;
+  ray_queries.clear();
+  transducer_poses.clear();
+  ranger_batch.clear();
   for (size_t n = 0; n < order.size(); ++n) {
     if (n + 2 * kAhead < order.size()) __builtin_prefetch(&robot_rangers[order[n + 2 * kAhead].index]);
     if (n + kAhead < order.size()) prefetch_rangers(order[n + kAhead]);
     const IndexRange r = robot_rangers[order[n].index];
     for (uint32_t k = r.first; k < r.first + r.count; ++k) {
-      if (due(rangers[k])) update_ranger(k);
+      if (due(rangers[k])) queue_ranger(k);
     }
   }
+  cast_ranger_batch();
 }
 
-void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* inten) {
+void Engine::beams_meet_candidates(const RangerState& rs, std::span<const RayQuery> queries,
+                                   std::span<const Pose> poses, float* out, float* inten) {
   // Robots that may cross a beam, tested only on the beams they can cross
   // and only where they could be nearer than what the beam already hit.
   // From the hash's copies of the robots' circles (which hold each robot
@@ -249,7 +254,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
        t < rs.transducer_first + rs.transducer_count && !ranger_candidates.empty(); ++t) {
     const Transducer& td = transducers[t];
     const uint32_t first = td.beam_offset, n = td.samples;
-    const Pose& org = transducer_poses[t - rs.transducer_first];
+    const Pose& org = poses[t - rs.transducer_first];
     const Vec2 o{org.x, org.y};
     for (Candidate& cand : ranger_candidates) {
       const double dx = cand.x - o.x, dy = cand.y - o.y;
@@ -258,7 +263,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
       // Nearer than `near`, nothing of the robot is: beams that stopped at
       // a wall before it cannot see it.
       auto test = [&](int s, double near) {
-        const RayQuery& q = ray_queries[first + uint32_t(s)];
+        const RayQuery& q = queries[first + uint32_t(s)];
         float& r = out[first + uint32_t(s)];
         if (near >= r) return;
         if (std::isnan(cand.turn.x)) {
@@ -277,7 +282,7 @@ void Engine::beams_meet_candidates(const RangerState& rs, float* out, float* int
       };
       if (n == 1) {
         // One beam: does it pass within the robot's circle, ahead of what it hit?
-        const Vec2 d = ray_queries[first].dir;
+        const Vec2 d = queries[first].dir;
         const double along = d.x * dx + d.y * dy, across = d.x * dy - d.y * dx;
         if (std::fabs(across) > cand.r || along + cand.r < 0 || along - cand.r >= out[first]) continue;
         test(0, along - cand.r);  // no nearer than the circle's nearest point along the beam
@@ -321,7 +326,7 @@ double tie_margin(double t) {
 
 }  // namespace
 
-void Engine::layer_hits_first() {
+void Engine::layer_hits_first(std::span<RayQuery> queries) {
   if (!robot_layer_fresh) {
     robot_layer.build(hash, kHashRangerVisible);
     robot_turns.resize(bodies.size());
@@ -337,7 +342,7 @@ void Engine::layer_hits_first() {
   beam_ends.clear();
   Vec2 clear_at{std::numeric_limits<double>::quiet_NaN(), 0};
   double clear = 0;  // m free of walls around clear_at
-  for (RayQuery& q : ray_queries) {
+  for (RayQuery& q : queries) {
     beam_hits.push_back(uint32_t(robot_hits.size()));
     beam_ends.push_back(0);
     if (++beam_stamp == 0) {  // wrapped: forget every stamp
@@ -412,11 +417,12 @@ void Engine::settle_layer_hits(float* out, float* inten) {
   }
 }
 
-void Engine::beams_meet_every(const RangerState& rs, float* out, float* inten) {
+void Engine::beams_meet_every(const RangerState& rs, std::span<const RayQuery> queries, float* out,
+                              float* inten) {
   for (const SpatialHash::Item& it : hash.order()) {
     if (it.index == rs.robot || !(it.flags & kHashRangerVisible)) continue;
     for (uint32_t b = 0; b < rs.beam_count; ++b) {
-      const double hit = ray_robot(it.index, ray_queries[b].origin, ray_queries[b].dir);
+      const double hit = ray_robot(it.index, queries[b].origin, queries[b].dir);
       if (hit >= 0 && hit < out[b]) {
         out[b] = float(hit);
         inten[b] = bodies[it.index].ranger_return;
@@ -425,19 +431,13 @@ void Engine::beams_meet_every(const RangerState& rs, float* out, float* inten) {
   }
 }
 
-void Engine::update_ranger(uint32_t index) {
+bool Engine::aim_ranger(uint32_t index) {
   RangerState& rs = rangers[index];
   const Body& self = bodies[rs.robot];
-  float* const out = ranges.data() + rs.beam_first;
-  float* const inten = intensities.data() + rs.beam_first;
-  const uint64_t noise_stream = Random::stream(uint64_t(RandomKind::RangerNoise), index, steps);
-  const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), index, steps);
   const uint64_t angle_stream = Random::stream(uint64_t(RandomKind::RangerAngle), index, steps);
 
-  // Every beam of the ranger, cast through the grid together. Directions
+  // Every beam of the ranger, appended to the batch's queries. Directions
   // are the robot-frame ones turned by the robot's heading.
-  ray_queries.clear();
-  transducer_poses.clear();
   const double hc = std::cos(self.pose.a), hs = std::sin(self.pose.a);
   auto turn = [hc, hs](Vec2 v) { return Vec2{hc * v.x - hs * v.y, hs * v.x + hc * v.y}; };
   for (uint32_t t = rs.transducer_first; t < rs.transducer_first + rs.transducer_count; ++t) {
@@ -468,29 +468,70 @@ void Engine::update_ranger(uint32_t index) {
   // from about this many robots per beam of a transducer, measured on the
   // crowd, packed and cave rows. The robots are those counted at the
   // ranger's last update (robots move little in a step), so the common case
-  // of few robots pays nothing to choose. The layer finds the robots first,
-  // so the walls are cast only up to them.
+  // of few robots pays nothing to choose.
   constexpr size_t kLayerFrom = 24;
-  const bool layer = ranger_robots == World::RangerRobots::Layer ||
-                     (ranger_robots == World::RangerRobots::Auto &&
-                      size_t(rs.robots_near) * rs.transducer_count >= kLayerFrom * rs.beam_count);
-  if (layer) {
-    self_robot = rs.robot;
-    layer_hits_first();
-    // Counted by the hash's cells (a few more than the candidates' circles
-    // would keep, which favours staying with the layer).
-    rs.robots_near = uint32_t(hash.count_items({self.pose.x, self.pose.y}, rs.reach));
+  return ranger_robots == World::RangerRobots::Layer ||
+         (ranger_robots == World::RangerRobots::Auto &&
+          size_t(rs.robots_near) * rs.transducer_count >= kLayerFrom * rs.beam_count);
+}
+
+void Engine::queue_ranger(uint32_t index) {
+  const PendingRanger p{index, uint32_t(ray_queries.size()), uint32_t(transducer_poses.size())};
+  if (!aim_ranger(index)) {
+    ranger_batch.push_back(p);
+    if (ray_queries.size() >= kRangerBatchRays) cast_ranger_batch();
+    return;
   }
-  map.cast_batch(ray_queries, StaticMap::kRangerMask, out);
+  // The layer finds the robots first, so the walls are cast only up to
+  // them: this ranger's rays are cast now, on their own, and leave the batch.
+  RangerState& rs = rangers[index];
+  const std::span<RayQuery> queries{ray_queries.data() + p.query_first, rs.beam_count};
+  self_robot = rs.robot;
+  layer_hits_first(queries);
+  // Counted by the hash's cells (a few more than the candidates' circles
+  // would keep, which favours staying with the layer).
+  const Body& self = bodies[rs.robot];
+  rs.robots_near = uint32_t(hash.count_items({self.pose.x, self.pose.y}, rs.reach));
+  map.cast_batch(queries, StaticMap::kRangerMask, ranges.data() + rs.beam_first);
+  finish_ranger(p, true);
+  ray_queries.resize(p.query_first);
+  transducer_poses.resize(p.pose_first);
+}
+
+void Engine::cast_ranger_batch() {
+  // One cast for the rays of several robots: the caster's lanes stay full
+  // and its cache misses overlap, where one ranger's few rays (a sonar
+  // ring's 12) fill the lanes once and then drain them.
+  batch_ranges.resize(ray_queries.size());
+  map.cast_batch(ray_queries, StaticMap::kRangerMask, batch_ranges.data());
+  for (const PendingRanger& p : ranger_batch) {
+    const RangerState& rs = rangers[p.ranger];
+    std::copy_n(batch_ranges.data() + p.query_first, rs.beam_count, ranges.data() + rs.beam_first);
+    finish_ranger(p, false);
+  }
+  ranger_batch.clear();
+  ray_queries.clear();
+  transducer_poses.clear();
+}
+
+void Engine::finish_ranger(const PendingRanger& p, bool layer) {
+  RangerState& rs = rangers[p.ranger];
+  float* const out = ranges.data() + rs.beam_first;
+  float* const inten = intensities.data() + rs.beam_first;
+  const std::span<const RayQuery> queries{ray_queries.data() + p.query_first, rs.beam_count};
+  const std::span<const Pose> poses{transducer_poses.data() + p.pose_first, rs.transducer_count};
+  const uint64_t noise_stream = Random::stream(uint64_t(RandomKind::RangerNoise), p.ranger, steps);
+  const uint64_t gauss_stream = Random::stream(uint64_t(RandomKind::RangerGauss), p.ranger, steps);
+
   const bool one_static = statics.size() == 1;
   const float static_return = one_static ? float(std::max(0.0, statics[0].look.ranger_return)) : 1.0f;
   for (uint32_t b = 0; b < rs.beam_count; ++b) {
     inten[b] = 0;
-    if (out[b] >= ray_queries[b].max_range) continue;
+    if (out[b] >= queries[b].max_range) continue;
     if (one_static) {
       inten[b] = static_return;
     } else {
-      const RayQuery& q = ray_queries[b];
+      const RayQuery& q = queries[b];
       const StaticInfo* hit = static_at(q.origin + (out[b] + 0.5 * map.resolution()) * q.dir);
       inten[b] = hit ? float(std::max(0.0, hit->look.ranger_return)) : 1.0f;
     }
@@ -499,9 +540,9 @@ void Engine::update_ranger(uint32_t index) {
   if (layer) {
     settle_layer_hits(out, inten);
   } else if (ranger_robots == World::RangerRobots::Every) {
-    beams_meet_every(rs, out, inten);
+    beams_meet_every(rs, queries, out, inten);
   } else {
-    beams_meet_candidates(rs, out, inten);
+    beams_meet_candidates(rs, queries, poses, out, inten);
     rs.robots_near = uint32_t(ranger_candidates.size());
   }
 

@@ -71,13 +71,16 @@ struct Scans {
 };
 
 // Steps the world `steps` times with seeded random commands, finding the
-// robots in the beams `how`, and keeps every ranger's beams after each step.
-Scans run(const WorldDesc& d, How how, uint64_t seed, int steps) {
+// robots in the beams `how`, and keeps every wanted ranger's beams after
+// each step: every ranger's, or only ranger `only`'s.
+Scans run(const WorldDesc& d, How how, uint64_t seed, int steps, int64_t only = -1) {
   World w(d, Random(seed));
   w.set_ranger_robots(how);
   for (RobotId i = 0; i < w.robot_count(); ++i) {
     const IndexRange r = w.robot(i).rangers;
-    for (uint32_t k = r.first; k < r.first + r.count; ++k) w.set_wanted({SensorKind::Ranger, k}, true);
+    for (uint32_t k = r.first; k < r.first + r.count; ++k) {
+      if (only < 0 || only == int64_t(k)) w.set_wanted({SensorKind::Ranger, k}, true);
+    }
   }
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -88,6 +91,7 @@ Scans run(const WorldDesc& d, How how, uint64_t seed, int steps) {
     for (RobotId i = 0; i < w.robot_count(); ++i) {
       const IndexRange r = w.robot(i).rangers;
       for (uint32_t k = r.first; k < r.first + r.count; ++k) {
+        if (only >= 0 && only != int64_t(k)) continue;
         const RangerView v = w.ranger(k);
         out.ranges.insert(out.ranges.end(), v.ranges.begin(), v.ranges.end());
         out.intensities.insert(out.intensities.end(), v.intensities.begin(), v.intensities.end());
@@ -124,6 +128,56 @@ TEST(RangerRobots, LayerAndCandidatesMatchEveryRobotAgainstEveryBeam) {
     expect_same_beams(every, run(d, How::Layer, seed, 4), "layer");
     expect_same_beams(every, run(d, How::Candidates, seed, 4), "candidates");
     expect_same_beams(every, run(d, How::Auto, seed, 4), "auto");
+  }
+}
+
+TEST(RangerRobots, RangersCastTogetherMatchEachCastAlone) {
+  // A step casts the rays of many rangers as one batch (several robots'
+  // rings and lasers, the batch cast in the middle of a laser's beams);
+  // a ranger wanted alone is cast alone. Each must get the same beams.
+  for (uint64_t seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const WorldDesc d = packed_crowd(seed, 36, seed % 2 ? 0.5 : 1.0);
+    const Scans together = run(d, How::Auto, seed, 3);
+    Scans alone;
+    const int64_t count = int64_t(d.robots.size());  // one ranger per robot
+    for (int64_t k = 0; k < count; ++k) {
+      const Scans one = run(d, How::Auto, seed, 3, k);
+      ASSERT_FALSE(one.ranges.empty());
+      alone.ranges.insert(alone.ranges.end(), one.ranges.begin(), one.ranges.end());
+      alone.intensities.insert(alone.intensities.end(), one.intensities.begin(), one.intensities.end());
+    }
+    // `together` holds step by step every ranger; `alone` ranger by ranger
+    // every step: reorder before comparing.
+    ASSERT_EQ(together.ranges.size(), alone.ranges.size());
+    Scans regrouped;
+    std::vector<size_t> beams, first_alone;
+    size_t at = 0;
+    for (const RobotDesc& r : d.robots) {
+      size_t n = 0;
+      for (const TransducerDesc& t : r.rangers[0].transducers) n += size_t(t.samples);
+      beams.push_back(n);
+      first_alone.push_back(at);
+      at += 3 * n;
+    }
+    for (int s = 0; s < 3; ++s) {
+      for (size_t k = 0; k < beams.size(); ++k) {
+        const size_t from = first_alone[k] + size_t(s) * beams[k];
+        regrouped.ranges.insert(regrouped.ranges.end(), alone.ranges.begin() + long(from),
+                                alone.ranges.begin() + long(from + beams[k]));
+        regrouped.intensities.insert(regrouped.intensities.end(), alone.intensities.begin() + long(from),
+                                     alone.intensities.begin() + long(from + beams[k]));
+      }
+    }
+    // Walls and robots both end beams here, so both parts are compared.
+    size_t on_walls = 0, on_robots = 0;
+    for (float i : together.intensities) {
+      on_walls += i == 1.0f;
+      on_robots += i == 0.25f || i == 0.5f;
+    }
+    EXPECT_GT(on_walls, 0u);
+    EXPECT_GT(on_robots, 0u);
+    expect_same_beams(regrouped, together, "cast together");
   }
 }
 
