@@ -11,11 +11,13 @@
 
 #include "host-sim/robocup/physics/world.h"
 #include "host-sim/sim/geometry.h"
-#include "host-sim/sim/shared_list.h"
 #include "host-sim/world/diagnostics.h"
 #include "host-sim/world/png_image.h"
+#include "host-sim/world/shared_list.h"
 
 namespace troupe::sim {
+
+using world::SharedList;
 
 /// Closed polygons in the frame of the model that owns them, m.
 using Polygons = std::vector<std::vector<Vec2>>;

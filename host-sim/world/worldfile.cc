@@ -357,14 +357,6 @@ void warn_unused_in(const Entity& e, Diagnostics& diags) {
 
 }  // namespace
 
-ValueList::ValueList(std::vector<Value> values)
-    : values_(values.empty() ? nullptr : std::make_shared<const std::vector<Value>>(std::move(values))) {}
-
-const Value& ValueList::at(size_t i) const {
-  if (i >= size()) throw std::out_of_range("ValueList::at");
-  return (*this)[i];
-}
-
 const Property* Entity::find(std::string_view name) const {
   for (const Property& p : properties) {
     if (p.name == name) {

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "host-sim/world/diagnostics.h"
+#include "host-sim/world/shared_list.h"
 
 namespace troupe::world {
 
@@ -41,26 +42,9 @@ struct Value {
   SourceLoc loc;
 };
 
-/// A property's values: immutable once parsed, and shared by every model
-/// that inherits the property from one define (copying it copies a pointer).
-class ValueList {
- public:
-  ValueList() = default;
-  explicit ValueList(std::vector<Value> values);
-
-  size_t size() const { return values_ ? values_->size() : 0; }
-  bool empty() const { return size() == 0; }
-  const Value& operator[](size_t i) const { return (*values_)[i]; }
-  /// Throws std::out_of_range past the end, as std::vector::at.
-  const Value& at(size_t i) const;
-  const Value& front() const { return (*this)[0]; }
-  const Value& back() const { return (*this)[size() - 1]; }
-  const Value* begin() const { return values_ ? values_->data() : nullptr; }
-  const Value* end() const { return begin() + size(); }
-
- private:
-  std::shared_ptr<const std::vector<Value>> values_;
-};
+/// A property's values, shared by every model that inherits the property
+/// from one define (copying it copies a pointer).
+using ValueList = SharedList<Value>;
 
 struct Property {
   std::string name;

@@ -1,10 +1,11 @@
-// A list that robots of one make-up share instead of copying: 100,000
-// robots of one type in a world file hold one list of their ranger's twelve
-// transducers, not 100,000 (host-sim/sim/desc.h, RobotDesc::rangers).
-// Copying it copies a pointer; changing it (push_back, edit) first gives the
-// changed list its own copy when another shares it, so a change is never
-// seen by another robot. Reading never copies: element access is const, and
-// a change goes through edit() by name.
+// A list that many holders share instead of copying: 100,000 robots of one
+// type in a world file hold one list of their ranger's twelve transducers,
+// not 100,000 (host-sim/sim/desc.h, RobotDesc::rangers), and every model
+// that inherits a property from one define holds one list of its values
+// (worldfile.h, Property::values). Copying it copies a pointer; changing it
+// (push_back, edit) first gives the changed list its own copy when another
+// shares it, so a change is never seen by another holder. Reading never
+// copies: element access is const, and a change goes through edit() by name.
 #pragma once
 
 #include <algorithm>
@@ -16,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-namespace troupe::sim {
+namespace troupe::world {
 
 template <class T>
 class SharedList {
@@ -27,6 +28,9 @@ class SharedList {
   SharedList() = default;
   SharedList(std::initializer_list<T> items) {
     if (items.size() > 0) items_ = std::make_shared<std::vector<T>>(items);
+  }
+  explicit SharedList(std::vector<T> items) {
+    if (!items.empty()) items_ = std::make_shared<std::vector<T>>(std::move(items));
   }
 
   size_t size() const { return items_ ? items_->size() : 0; }
@@ -80,4 +84,4 @@ class SharedList {
   std::shared_ptr<std::vector<T>> items_;
 };
 
-}  // namespace troupe::sim
+}  // namespace troupe::world
